@@ -1,0 +1,155 @@
+#pragma once
+/// \file
+/// The scene model: what glTF 2.0 holds that rendering needs, and no more. Meshes are single
+/// glTF primitives (one material each), placed by instances with 4x4 transforms; lights are
+/// glTF punctual lights plus the emissive triangles of the meshes (found by the lighting layer).
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace igi {
+
+/// A decoded 8-bit RGBA image, decoded once at load time.
+struct Texture {
+  std::string name;                  ///< File name or glTF image name, for messages.
+  int width = 0;                     ///< Texels per row.
+  int height = 0;                    ///< Rows.
+  std::vector<std::uint8_t> texels;  ///< RGBA8, row-major, top row first (glTF's uv origin).
+  bool srgb = true;                  ///< True if texels are sRGB-encoded (base colour, emission).
+};
+
+/// How a material's alpha is used (glTF `alphaMode`).
+enum class AlphaMode { opaque, mask, blend };
+
+/// A glTF metallic-roughness material with the extensions igi renders.
+struct Material {
+  std::string name;                                    ///< For messages.
+  glm::vec4 base_color{1.0f};                          ///< Linear RGBA factor.
+  int base_color_texture = -1;                         ///< Index into Scene::textures, or -1.
+  int base_color_uv_set = 0;                           ///< TEXCOORD_n used by that texture.
+  float metallic = 1.0f;                               ///< glTF default 1.
+  float roughness = 1.0f;                              ///< glTF default 1.
+  glm::vec3 emission{0.0f};                            ///< Emitted radiance: factor x KHR_materials_emissive_strength.
+  int emissive_texture = -1;                           ///< Index into Scene::textures, or -1.
+  float transmission = 0.0f;                           ///< KHR_materials_transmission factor.
+  float ior = 1.5f;                                    ///< KHR_materials_ior (glTF default 1.5).
+  AlphaMode alpha_mode = AlphaMode::opaque;            ///< glTF alphaMode.
+  float alpha_cutoff = 0.5f;                           ///< glTF default 0.5.
+  bool double_sided = false;                           ///< glTF doubleSided.
+  /// True if the material emits light.
+  bool emissive() const noexcept { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
+};
+
+/// An indexed triangle mesh in object space with one material (one glTF primitive).
+struct Mesh {
+  std::string name;                        ///< glTF mesh name (with primitive index if several).
+  std::vector<glm::vec3> positions;        ///< Vertex positions.
+  std::vector<glm::vec3> normals;          ///< Unit vertex normals (computed when the file has none).
+  std::vector<glm::vec2> uvs;              ///< TEXCOORD_0, empty if absent.
+  std::vector<glm::uvec3> triangles;       ///< Vertex indices, counter-clockwise front faces.
+  int material = -1;                       ///< Index into Scene::materials, or -1 for the default.
+};
+
+/// A placement of a mesh in the world.
+struct Instance {
+  std::string name;                  ///< glTF node name.
+  int mesh = 0;                      ///< Index into Scene::meshes.
+  glm::mat4 transform{1.0f};         ///< Object to world.
+};
+
+/// Kinds of glTF KHR_lights_punctual lights.
+enum class PunctualKind { point, spot, directional };
+
+/// A KHR_lights_punctual light in world space. Photometric glTF units are read as radiometric:
+/// point and spot intensity is radiant intensity (W/sr), directional intensity is irradiance (W/m^2).
+struct PunctualLight {
+  std::string name;                    ///< glTF light name.
+  PunctualKind kind = PunctualKind::point;  ///< point, spot or directional.
+  glm::vec3 color{1.0f};               ///< Linear RGB.
+  float intensity = 1.0f;              ///< Scale of color.
+  glm::vec3 position{0.0f};            ///< World position (point, spot).
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  ///< Unit world direction the light shines to (spot, directional).
+  float range = 0.0f;                  ///< 0 = unlimited.
+  float inner_cone = 0.0f;             ///< Spot inner cone angle, radians.
+  float outer_cone = 0.7853981634f;    ///< Spot outer cone angle, radians (glTF default pi/4).
+};
+
+/// A perspective pinhole camera; looks down its local -Z with +Y up, as in glTF.
+struct Camera {
+  std::string name;                  ///< glTF camera or node name.
+  glm::mat4 camera_to_world{1.0f};   ///< Rigid transform of the camera.
+  float yfov = 0.6860724f;           ///< Vertical field of view, radians (39.3077 deg, Cornell's).
+  float aspect = 0.0f;               ///< Width / height; 0 means "take the image's".
+  float znear = 1e-3f;               ///< Near distance along the view axis.
+  /// World-space position of the eye.
+  glm::vec3 position() const noexcept { return glm::vec3(camera_to_world[3]); }
+};
+
+/// An axis-aligned box.
+struct Bounds {
+  glm::vec3 lower{std::numeric_limits<float>::infinity()};   ///< Minimum corner.
+  glm::vec3 upper{-std::numeric_limits<float>::infinity()};  ///< Maximum corner.
+  /// Grows the box to hold `p`.
+  void extend(const glm::vec3& p) noexcept {
+    lower = glm::min(lower, p);
+    upper = glm::max(upper, p);
+  }
+  /// Grows the box to hold `b`.
+  void extend(const Bounds& b) noexcept {
+    lower = glm::min(lower, b.lower);
+    upper = glm::max(upper, b.upper);
+  }
+  /// True if nothing was added.
+  bool empty() const noexcept { return !(lower.x <= upper.x); }
+  /// Centre point.
+  glm::vec3 center() const noexcept { return 0.5f * (lower + upper); }
+  /// Diagonal vector.
+  glm::vec3 extent() const noexcept { return upper - lower; }
+};
+
+/// Everything there is to render.
+struct Scene {
+  std::string name;                          ///< File name or "cornell".
+  std::vector<Mesh> meshes;                  ///< Geometry in object space.
+  std::vector<Instance> instances;           ///< Placements of meshes.
+  std::vector<Material> materials;           ///< Referenced by meshes.
+  std::vector<Texture> textures;             ///< Referenced by materials.
+  std::vector<PunctualLight> lights;         ///< KHR_lights_punctual lights.
+  std::vector<Camera> cameras;               ///< Cameras by name, in file order.
+
+  /// Triangles as rendered: every instance counts its mesh's triangles.
+  std::size_t triangle_count() const noexcept {
+    std::size_t n = 0;
+    for (const Instance& instance : instances) n += meshes[std::size_t(instance.mesh)].triangles.size();
+    return n;
+  }
+  /// Triangles stored once per mesh.
+  std::size_t unique_triangle_count() const noexcept {
+    std::size_t n = 0;
+    for (const Mesh& mesh : meshes) n += mesh.triangles.size();
+    return n;
+  }
+  /// World-space bounds of all instances.
+  Bounds bounds() const noexcept {
+    Bounds b;
+    for (const Instance& instance : instances)
+      for (const glm::vec3& p : meshes[std::size_t(instance.mesh)].positions)
+        b.extend(glm::vec3(instance.transform * glm::vec4(p, 1.0f)));
+    return b;
+  }
+  /// The material of `mesh`, or a default white diffuse one.
+  const Material& material_of(int mesh) const noexcept {
+    // glTF's default material is white metal; a grey diffuse surface (albedo 0.8, a common
+    // "white paint") is what a user expects of an untextured model such as the bunny.
+    static const Material fallback{.name = "default", .base_color = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f), .metallic = 0.0f};
+    const int m = meshes[std::size_t(mesh)].material;
+    return m >= 0 ? materials[std::size_t(m)] : fallback;
+  }
+};
+
+}  // namespace igi

@@ -1,0 +1,6 @@
+#pragma once
+/// \file
+/// The SIMD layer: packets, vectors and sampling.
+
+#include "igi/simd/lanes.hpp"
+#include "igi/simd/vec3.hpp"
