@@ -51,6 +51,7 @@ struct Mesh {
   std::vector<glm::vec3> positions;        ///< Vertex positions.
   std::vector<glm::vec3> normals;          ///< Unit vertex normals (computed when the file has none).
   std::vector<glm::vec2> uvs;              ///< TEXCOORD_0, empty if absent.
+  std::vector<glm::vec2> uvs1;             ///< TEXCOORD_1, empty if absent (for materials with uv set 1).
   std::vector<glm::uvec3> triangles;       ///< Vertex indices, counter-clockwise front faces.
   int material = -1;                       ///< Index into Scene::materials, or -1 for the default.
 };
@@ -83,7 +84,7 @@ struct PunctualLight {
 struct Camera {
   std::string name;                  ///< glTF camera or node name.
   glm::mat4 camera_to_world{1.0f};   ///< Rigid transform of the camera.
-  float yfov = 0.6860724f;           ///< Vertical field of view, radians (39.3077 deg, Cornell's).
+  float yfov = 0.6860488f;           ///< Vertical field of view, radians (39.3077 deg, Cornell's).
   float aspect = 0.0f;               ///< Width / height; 0 means "take the image's".
   float znear = 1e-3f;               ///< Near distance along the view axis.
   /// World-space position of the eye.

@@ -8,6 +8,8 @@
 #include <array>
 #include <cstdint>
 #include <experimental/simd>
+#include <functional>
+#include <limits>
 #include <type_traits>
 
 namespace igi {
@@ -108,26 +110,26 @@ class vmask {
 
 /// True if any lane of `m` is on.
 template <int W>
-bool any(const vmask<W>& m) noexcept {
+inline bool any(const vmask<W>& m) noexcept {
   for (int c = 0; c < vmask<W>::chunks; ++c)
     if (stdx::any_of(m.chunk(c))) return true;
   return false;
 }
 /// True if every lane of `m` is on.
 template <int W>
-bool all(const vmask<W>& m) noexcept {
+inline bool all(const vmask<W>& m) noexcept {
   for (int c = 0; c < vmask<W>::chunks; ++c)
     if (!stdx::all_of(m.chunk(c))) return false;
   return true;
 }
 /// True if no lane of `m` is on.
 template <int W>
-bool none(const vmask<W>& m) noexcept {
+inline bool none(const vmask<W>& m) noexcept {
   return !any(m);
 }
 /// Number of lanes on.
 template <int W>
-int popcount(const vmask<W>& m) noexcept {
+inline int popcount(const vmask<W>& m) noexcept {
   int n = 0;
   for (int c = 0; c < vmask<W>::chunks; ++c) n += stdx::popcount(m.chunk(c));
   return n;
@@ -262,74 +264,74 @@ using vuint = lanes<std::uint32_t, W>;
 
 /// `a` where `mask` is on, else `b`.
 template <class T, int W>
-lanes<T, W> select(const vmask<W>& mask, const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
+inline lanes<T, W> select(const vmask<W>& mask, const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
   lanes<T, W> r = b;
   r.assign(a, mask);
   return r;
 }
 /// `value` on the lanes of `mask`, zero elsewhere: how inactive lanes yield zeros.
 template <class T, int W>
-lanes<T, W> keep(const lanes<T, W>& value, const vmask<W>& mask) noexcept {
+inline lanes<T, W> keep(const lanes<T, W>& value, const vmask<W>& mask) noexcept {
   return select(mask, value, lanes<T, W>(T(0)));
 }
 /// Lane-wise minimum.
 template <class T, int W>
-lanes<T, W> min(const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
+inline lanes<T, W> min(const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
   return lanewise(a, b, [](const auto& x, const auto& y) { return stdx::min(x, y); });
 }
 /// Lane-wise maximum.
 template <class T, int W>
-lanes<T, W> max(const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
+inline lanes<T, W> max(const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
   return lanewise(a, b, [](const auto& x, const auto& y) { return stdx::max(x, y); });
 }
 /// `value` limited to `[low, high]`.
 template <class T, int W>
-lanes<T, W> clamp(const lanes<T, W>& value, const lanes<T, W>& low, const lanes<T, W>& high) noexcept {
+inline lanes<T, W> clamp(const lanes<T, W>& value, const lanes<T, W>& low, const lanes<T, W>& high) noexcept {
   return min(max(value, low), high);
 }
 /// Lane-wise absolute value.
 template <class T, int W>
-lanes<T, W> abs(const lanes<T, W>& a) noexcept {
+inline lanes<T, W> abs(const lanes<T, W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::abs(x); });
 }
 /// Lane-wise square root.
 template <int W>
-vfloat<W> sqrt(const vfloat<W>& a) noexcept {
+inline vfloat<W> sqrt(const vfloat<W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::sqrt(x); });
 }
 /// Lane-wise floor.
 template <int W>
-vfloat<W> floor(const vfloat<W>& a) noexcept {
+inline vfloat<W> floor(const vfloat<W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::floor(x); });
 }
 /// Lane-wise e^x.
 template <int W>
-vfloat<W> exp(const vfloat<W>& a) noexcept {
+inline vfloat<W> exp(const vfloat<W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::exp(x); });
 }
 /// Lane-wise natural logarithm.
 template <int W>
-vfloat<W> log(const vfloat<W>& a) noexcept {
+inline vfloat<W> log(const vfloat<W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::log(x); });
 }
 /// Lane-wise sine.
 template <int W>
-vfloat<W> sin(const vfloat<W>& a) noexcept {
+inline vfloat<W> sin(const vfloat<W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::sin(x); });
 }
 /// Lane-wise cosine.
 template <int W>
-vfloat<W> cos(const vfloat<W>& a) noexcept {
+inline vfloat<W> cos(const vfloat<W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::cos(x); });
 }
 /// Lane-wise base^exponent (base >= 0).
 template <int W>
-vfloat<W> pow(const vfloat<W>& base, const vfloat<W>& exponent) noexcept {
+inline vfloat<W> pow(const vfloat<W>& base, const vfloat<W>& exponent) noexcept {
   return lanewise(base, exponent, [](const auto& x, const auto& y) { return stdx::pow(x, y); });
 }
 /// True where a lane is neither NaN nor infinite.
 template <int W>
-vmask<W> isfinite(const vfloat<W>& a) noexcept {
+inline vmask<W> isfinite(const vfloat<W>& a) noexcept {
   vmask<W> m;
   for (int c = 0; c < vfloat<W>::chunks; ++c) m.chunk(c) = stdx::isfinite(a.chunk(c));
   return m;
@@ -337,7 +339,7 @@ vmask<W> isfinite(const vfloat<W>& a) noexcept {
 
 /// Converts lane types with C++ rules (float to int truncates towards zero).
 template <class To, class From, int W>
-lanes<To, W> convert(const lanes<From, W>& a) noexcept {
+inline lanes<To, W> convert(const lanes<From, W>& a) noexcept {
   lanes<To, W> r;
   for (int c = 0; c < lanes<To, W>::chunks; ++c)
     r.chunk(c) = stdx::static_simd_cast<typename lanes<To, W>::chunk_type>(a.chunk(c));
@@ -346,7 +348,7 @@ lanes<To, W> convert(const lanes<From, W>& a) noexcept {
 /// Reinterprets the bits of each lane (float <-> uint32 for hashing).
 template <class To, class From, int W>
   requires(sizeof(To) == sizeof(From))
-lanes<To, W> bit_cast(const lanes<From, W>& a) noexcept {
+inline lanes<To, W> bit_cast(const lanes<From, W>& a) noexcept {
   lanes<To, W> r;
   for (int c = 0; c < lanes<To, W>::chunks; ++c)
     r.chunk(c) = stdx::__proposed::simd_bit_cast<typename lanes<To, W>::chunk_type>(a.chunk(c));
@@ -355,40 +357,62 @@ lanes<To, W> bit_cast(const lanes<From, W>& a) noexcept {
 
 /// Sum of all lanes.
 template <class T, int W>
-T reduce_add(const lanes<T, W>& a) noexcept {
+inline T reduce_add(const lanes<T, W>& a) noexcept {
   T sum = 0;
   for (int c = 0; c < lanes<T, W>::chunks; ++c) sum += stdx::reduce(a.chunk(c));
   return sum;
 }
 /// Sum of the lanes of `mask` (zero when none is on).
 template <class T, int W>
-T reduce_add(const lanes<T, W>& a, const vmask<W>& mask) noexcept {
+inline T reduce_add(const lanes<T, W>& a, const vmask<W>& mask) noexcept {
   return reduce_add(keep(a, mask));
 }
 /// Smallest lane.
 template <class T, int W>
-T reduce_min(const lanes<T, W>& a) noexcept {
+inline T reduce_min(const lanes<T, W>& a) noexcept {
   T m = stdx::hmin(a.chunk(0));
   for (int c = 1; c < lanes<T, W>::chunks; ++c) m = std::min(m, T(stdx::hmin(a.chunk(c))));
   return m;
 }
 /// Largest lane.
 template <class T, int W>
-T reduce_max(const lanes<T, W>& a) noexcept {
+inline T reduce_max(const lanes<T, W>& a) noexcept {
   T m = stdx::hmax(a.chunk(0));
   for (int c = 1; c < lanes<T, W>::chunks; ++c) m = std::max(m, T(stdx::hmax(a.chunk(c))));
   return m;
 }
 
+namespace detail {
+/// The identity of `min` over T: +infinity for floats, the largest value for integers.
+template <class T>
+inline constexpr T min_identity =
+    std::numeric_limits<T>::has_infinity ? std::numeric_limits<T>::infinity() : std::numeric_limits<T>::max();
+/// The identity of `max` over T: -infinity for floats, the lowest value for integers.
+template <class T>
+inline constexpr T max_identity =
+    std::numeric_limits<T>::has_infinity ? -std::numeric_limits<T>::infinity() : std::numeric_limits<T>::lowest();
+}  // namespace detail
+
+/// Smallest lane of `mask` (+infinity for float, the largest value for integers, when none is on).
+template <class T, int W>
+inline T reduce_min(const lanes<T, W>& a, const vmask<W>& mask) noexcept {
+  return reduce_min(select(mask, a, lanes<T, W>(detail::min_identity<T>)));
+}
+/// Largest lane of `mask` (-infinity for float, the lowest value for integers, when none is on).
+template <class T, int W>
+inline T reduce_max(const lanes<T, W>& a, const vmask<W>& mask) noexcept {
+  return reduce_max(select(mask, a, lanes<T, W>(detail::max_identity<T>)));
+}
+
 /// `base[index[i]]` on the lanes of `mask`, zero elsewhere (inactive indices are never read).
 template <class T, int W>
-lanes<T, W> gather(const T* base, const vint<W>& index, const vmask<W>& mask) noexcept {
+inline lanes<T, W> gather(const T* base, const vint<W>& index, const vmask<W>& mask) noexcept {
   return lanes<T, W>([&](int i) { return mask[i] ? base[index[i]] : T(0); });
 }
 
 /// Lane indices 0, 1, ..., W-1.
 template <int W>
-vint<W> lane_index() noexcept {
+inline vint<W> lane_index() noexcept {
   return vint<W>([](int i) { return i; });
 }
 

@@ -4,3 +4,4 @@
 
 #include "igi/simd/lanes.hpp"
 #include "igi/simd/vec3.hpp"
+#include "igi/simd/sampling.hpp"

@@ -52,27 +52,27 @@ struct vec3 {
 
 /// Lane-wise dot product.
 template <int W>
-vfloat<W> dot(const vec3<W>& a, const vec3<W>& b) noexcept {
+inline vfloat<W> dot(const vec3<W>& a, const vec3<W>& b) noexcept {
   return a.x * b.x + a.y * b.y + a.z * b.z;
 }
 /// Lane-wise cross product.
 template <int W>
-vec3<W> cross(const vec3<W>& a, const vec3<W>& b) noexcept {
+inline vec3<W> cross(const vec3<W>& a, const vec3<W>& b) noexcept {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 /// Lane-wise squared length.
 template <int W>
-vfloat<W> length_squared(const vec3<W>& a) noexcept {
+inline vfloat<W> length_squared(const vec3<W>& a) noexcept {
   return dot(a, a);
 }
 /// Lane-wise length.
 template <int W>
-vfloat<W> length(const vec3<W>& a) noexcept {
+inline vfloat<W> length(const vec3<W>& a) noexcept {
   return sqrt(dot(a, a));
 }
 /// Lane-wise unit vector; a zero vector stays zero instead of becoming NaN.
 template <int W>
-vec3<W> normalize(const vec3<W>& a) noexcept {
+inline vec3<W> normalize(const vec3<W>& a) noexcept {
   const vfloat<W> len2 = dot(a, a);
   const vmask<W> nonzero = len2 > vfloat<W>(0.0f);
   const vfloat<W> inverse = keep(vfloat<W>(1.0f) / sqrt(select(nonzero, len2, vfloat<W>(1.0f))), nonzero);
@@ -80,37 +80,37 @@ vec3<W> normalize(const vec3<W>& a) noexcept {
 }
 /// Component-wise minimum.
 template <int W>
-vec3<W> min(const vec3<W>& a, const vec3<W>& b) noexcept {
+inline vec3<W> min(const vec3<W>& a, const vec3<W>& b) noexcept {
   return {min(a.x, b.x), min(a.y, b.y), min(a.z, b.z)};
 }
 /// Component-wise maximum.
 template <int W>
-vec3<W> max(const vec3<W>& a, const vec3<W>& b) noexcept {
+inline vec3<W> max(const vec3<W>& a, const vec3<W>& b) noexcept {
   return {max(a.x, b.x), max(a.y, b.y), max(a.z, b.z)};
 }
 /// `a` where `mask` is on, else `b`.
 template <int W>
-vec3<W> select(const vmask<W>& mask, const vec3<W>& a, const vec3<W>& b) noexcept {
+inline vec3<W> select(const vmask<W>& mask, const vec3<W>& a, const vec3<W>& b) noexcept {
   return {select(mask, a.x, b.x), select(mask, a.y, b.y), select(mask, a.z, b.z)};
 }
 /// `value` on the lanes of `mask`, zero elsewhere.
 template <int W>
-vec3<W> keep(const vec3<W>& value, const vmask<W>& mask) noexcept {
+inline vec3<W> keep(const vec3<W>& value, const vmask<W>& mask) noexcept {
   return {keep(value.x, mask), keep(value.y, mask), keep(value.z, mask)};
 }
 /// Sum over all lanes.
 template <int W>
-glm::vec3 reduce_add(const vec3<W>& a) noexcept {
+inline glm::vec3 reduce_add(const vec3<W>& a) noexcept {
   return {reduce_add(a.x), reduce_add(a.y), reduce_add(a.z)};
 }
 /// Sum over the lanes of `mask`.
 template <int W>
-glm::vec3 reduce_add(const vec3<W>& a, const vmask<W>& mask) noexcept {
+inline glm::vec3 reduce_add(const vec3<W>& a, const vmask<W>& mask) noexcept {
   return reduce_add(keep(a, mask));
 }
 /// `base[index[i]]` on the lanes of `mask`, zero elsewhere.
 template <int W>
-vec3<W> gather(const glm::vec3* base, const vint<W>& index, const vmask<W>& mask) noexcept {
+inline vec3<W> gather(const glm::vec3* base, const vint<W>& index, const vmask<W>& mask) noexcept {
   vec3<W> r;
   for (int i = 0; i < W; ++i)
     if (mask[i]) r.set(i, base[index[i]]);
@@ -118,7 +118,7 @@ vec3<W> gather(const glm::vec3* base, const vint<W>& index, const vmask<W>& mask
 }
 /// Lane-wise `value * factor + offset` on GLM constants.
 template <int W>
-vec3<W> fma(const vec3<W>& value, const vfloat<W>& factor, const vec3<W>& offset) noexcept {
+inline vec3<W> fma(const vec3<W>& value, const vfloat<W>& factor, const vec3<W>& offset) noexcept {
   return value * factor + offset;
 }
 

@@ -1,0 +1,419 @@
+#pragma once
+/// \file
+/// `EmbreeBackend<W>` (W = 1, 4, 8, 16): Embree 3 behind the igi Backend interface. A two-level
+/// scene: one Embree scene per Mesh (its triangle geometry has geomID = mesh index) and a top
+/// scene of instances (instID = instance index), so moving an instance re-commits only the top
+/// level and changing a mesh's vertices refits that mesh's BVH. Packets go to rtcIntersect1/4/8/16
+/// and rtcOccluded1/4/8/16; Embree errors become igi::EmbreeError carrying Embree's message.
+/// Link with the CMake target igi::embree. Embree runs much faster with denormals flushed to zero
+/// (_MM_SET_FLUSH_ZERO_MODE / _MM_SET_DENORMALS_ZERO_MODE on each tracing thread); the backend
+/// leaves the caller's floating-point mode alone.
+
+#include <array>
+#include <cstddef>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <embree3/rtcore.h>
+#include <glm/glm.hpp>
+
+#include "igi/backends/packet.hpp"
+#include "igi/backends/world_triangles.hpp"
+#include "igi/scene/scene.hpp"
+
+namespace igi {
+
+/// An error reported by Embree, with Embree's own message.
+class EmbreeError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+namespace detail {
+
+/// Embree's name of an error code.
+inline const char* embree_error_name(RTCError code) noexcept {
+  switch (code) {
+    case RTC_ERROR_NONE: return "RTC_ERROR_NONE";
+    case RTC_ERROR_UNKNOWN: return "RTC_ERROR_UNKNOWN";
+    case RTC_ERROR_INVALID_ARGUMENT: return "RTC_ERROR_INVALID_ARGUMENT";
+    case RTC_ERROR_INVALID_OPERATION: return "RTC_ERROR_INVALID_OPERATION";
+    case RTC_ERROR_OUT_OF_MEMORY: return "RTC_ERROR_OUT_OF_MEMORY";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "RTC_ERROR_UNSUPPORTED_CPU";
+    case RTC_ERROR_CANCELLED: return "RTC_ERROR_CANCELLED";
+  }
+  return "unknown Embree error";
+}
+
+/// Embree's packet types for each width.
+template <int W>
+struct EmbreePacketTypes;
+template <>
+struct EmbreePacketTypes<1> {
+  using Ray = RTCRay;        ///< Ray.
+  using RayHit = RTCRayHit;  ///< Ray and hit.
+};
+template <>
+struct EmbreePacketTypes<4> {
+  using Ray = RTCRay4;        ///< Ray packet.
+  using RayHit = RTCRayHit4;  ///< Ray and hit packet.
+};
+template <>
+struct EmbreePacketTypes<8> {
+  using Ray = RTCRay8;        ///< Ray packet.
+  using RayHit = RTCRayHit8;  ///< Ray and hit packet.
+};
+template <>
+struct EmbreePacketTypes<16> {
+  using Ray = RTCRay16;        ///< Ray packet.
+  using RayHit = RTCRayHit16;  ///< Ray and hit packet.
+};
+
+/// Checks at compile time that RayPacket<W> / HitPacket<W> have Embree's field offsets, so
+/// Embree may read and write them in place.
+template <int W>
+constexpr bool packet_layout_matches() {
+  using Ray = typename EmbreePacketTypes<W>::Ray;
+  using RayHit = typename EmbreePacketTypes<W>::RayHit;
+  using Hit = decltype(RayHit::hit);
+  static_assert(offsetof(RayPacket<W>, org_x) == offsetof(Ray, org_x));
+  static_assert(offsetof(RayPacket<W>, org_y) == offsetof(Ray, org_y));
+  static_assert(offsetof(RayPacket<W>, org_z) == offsetof(Ray, org_z));
+  static_assert(offsetof(RayPacket<W>, tnear) == offsetof(Ray, tnear));
+  static_assert(offsetof(RayPacket<W>, dir_x) == offsetof(Ray, dir_x));
+  static_assert(offsetof(RayPacket<W>, dir_y) == offsetof(Ray, dir_y));
+  static_assert(offsetof(RayPacket<W>, dir_z) == offsetof(Ray, dir_z));
+  static_assert(offsetof(RayPacket<W>, time) == offsetof(Ray, time));
+  static_assert(offsetof(RayPacket<W>, tfar) == offsetof(Ray, tfar));
+  static_assert(offsetof(RayPacket<W>, mask) == offsetof(Ray, mask));
+  static_assert(offsetof(RayPacket<W>, id) == offsetof(Ray, id));
+  static_assert(offsetof(RayPacket<W>, flags) == offsetof(Ray, flags));
+  static_assert(sizeof(Ray) <= sizeof(RayPacket<W>) && alignof(Ray) <= alignof(RayPacket<W>));
+  static_assert(offsetof(HitPacket<W>, Ng_x) == offsetof(Hit, Ng_x));
+  static_assert(offsetof(HitPacket<W>, Ng_y) == offsetof(Hit, Ng_y));
+  static_assert(offsetof(HitPacket<W>, Ng_z) == offsetof(Hit, Ng_z));
+  static_assert(offsetof(HitPacket<W>, u) == offsetof(Hit, u));
+  static_assert(offsetof(HitPacket<W>, v) == offsetof(Hit, v));
+  static_assert(offsetof(HitPacket<W>, primID) == offsetof(Hit, primID));
+  static_assert(offsetof(HitPacket<W>, geomID) == offsetof(Hit, geomID));
+  static_assert(offsetof(HitPacket<W>, instID) == offsetof(Hit, instID));
+  static_assert(sizeof(Hit) <= sizeof(HitPacket<W>));
+  static_assert(RTC_MAX_INSTANCE_LEVEL_COUNT == 1, "HitPacket holds one instance level");
+  static_assert(invalid_id == RTC_INVALID_GEOMETRY_ID);
+  return true;
+}
+
+}  // namespace detail
+
+/// Embree 3 with a two-level scene, traced in packets of W = 1, 4, 8 or 16 rays.
+template <int W>
+  requires(W == 1 || W == 4 || W == 8 || W == 16)
+class EmbreeBackend {
+  static_assert(detail::packet_layout_matches<W>() && detail::packet_layout_matches<1>());
+
+ public:
+  /// Lanes per packet.
+  static constexpr int width = W;
+  /// Name for tables and messages.
+  static constexpr const char* name() noexcept { return "embree"; }
+
+  /// Builds the two-level scene on a new Embree device made with `device_config` (Embree's
+  /// rtcNewDevice string, e.g. "threads=1"); throws std::invalid_argument on a malformed scene and
+  /// EmbreeError when Embree reports a problem.
+  explicit EmbreeBackend(const Scene& scene, const std::string& device_config = "")
+      : state_(std::make_unique<State>()) {
+    validate_for_tracing(scene, "igi::EmbreeBackend");
+    state_->device = rtcNewDevice(device_config.c_str());
+    if (state_->device == nullptr)
+      throw EmbreeError(std::string("igi::EmbreeBackend: rtcNewDevice(\"") + device_config +
+                        "\") failed: " + detail::embree_error_name(rtcGetDeviceError(nullptr)));
+    rtcSetDeviceErrorFunction(state_->device, &State::on_error, state_.get());
+
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) add_mesh(scene.meshes[m], unsigned(m));
+    state_->top = rtcNewScene(state_->device);
+    check("rtcNewScene (instances)");
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) add_instance(scene.instances[i], unsigned(i));
+    commit_all();
+  }
+
+  /// Moves a backend; the source is left empty.
+  EmbreeBackend(EmbreeBackend&&) noexcept = default;
+  /// Moves a backend; the source is left empty.
+  EmbreeBackend& operator=(EmbreeBackend&&) noexcept = default;
+  EmbreeBackend(const EmbreeBackend&) = delete;
+  EmbreeBackend& operator=(const EmbreeBackend&) = delete;
+  /// Releases every Embree object.
+  ~EmbreeBackend() = default;
+
+  /// Closest hit of the rays in `mask` (coherent packet hint for W > 1): hit lanes get tfar =
+  /// distance, ids and object-space Ng; missing lanes get invalid ids; other lanes are untouched.
+  template <int N>
+    requires(N == W || N == 1)
+  void intersect(RayPacket<N>& rays, HitPacket<N>& hits, const vmask<N>& mask) const {
+    trace_closest<N>(state_->top, rays, hits, mask);
+  }
+
+  /// Lanes of `mask` whose interval [tnear, tfar] is blocked; Embree sets their tfar to -inf.
+  template <int N>
+    requires(N == W || N == 1)
+  vmask<N> occluded(RayPacket<N>& rays, const vmask<N>& mask) const {
+    return trace_any<N>(state_->top, rays, mask);
+  }
+
+  /// Moves instance `index`; the top level is re-committed at commit().
+  void set_instance_transform(int index, const glm::mat4& transform) {
+    check_index(index, state_->instances.size(), "igi::EmbreeBackend", "instance");
+    check_transform(transform, "igi::EmbreeBackend");
+    state_->pending_transforms.emplace_back(index, transform);
+    state_->top_dirty = true;
+  }
+
+  /// Replaces the vertex positions of mesh `index` (same count); its BVH is refitted at commit().
+  void set_mesh_positions(int index, std::span<const glm::vec3> positions) {
+    check_index(index, state_->meshes.size(), "igi::EmbreeBackend", "mesh");
+    MeshEntry& mesh = state_->meshes[std::size_t(index)];
+    if (positions.size() != mesh.vertex_count)
+      throw std::invalid_argument("igi::EmbreeBackend: set_mesh_positions got " + std::to_string(positions.size()) +
+                                  " positions for mesh '" + mesh.name + "' which has " +
+                                  std::to_string(mesh.vertex_count));
+    Mesh probe;
+    probe.name = mesh.name;
+    probe.positions.resize(mesh.vertex_count);
+    check_positions(probe, positions, "igi::EmbreeBackend");
+    if (mesh.geometry == nullptr) return;  // No triangles: nothing to refit.
+    std::memcpy(mesh.vertices, positions.data(), positions.size() * sizeof(glm::vec3));
+    rtcUpdateGeometryBuffer(mesh.geometry, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(mesh.geometry);
+    check("set_mesh_positions");
+    mesh.dirty = true;
+    state_->top_dirty = true;  // The instances' bounds changed with the mesh.
+  }
+
+  /// Commits what changed: refits changed meshes, then re-commits the instance level.
+  void commit() {
+    for (MeshEntry& mesh : state_->meshes)
+      if (mesh.dirty) {
+        rtcCommitScene(mesh.scene);
+        check("rtcCommitScene (mesh '" + mesh.name + "')");
+      }
+    // Embree rebuilds the instance level only over instances marked modified: those of a refitted
+    // mesh must be, or the top level keeps their old bounds.
+    for (std::size_t i = 0; i < state_->instances.size(); ++i)
+      if (state_->meshes[state_->instance_mesh[i]].dirty) rtcCommitGeometry(state_->instances[i]);
+    for (MeshEntry& mesh : state_->meshes) mesh.dirty = false;
+    if (state_->top_dirty) {
+      for (const auto& [index, transform] : state_->pending_transforms) {
+        RTCGeometry instance = state_->instances[std::size_t(index)];
+        rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &transform[0][0]);
+        rtcCommitGeometry(instance);
+      }
+      state_->pending_transforms.clear();
+      check("instance transforms");
+      rtcCommitScene(state_->top);
+      check("rtcCommitScene (instances)");
+      state_->top_dirty = false;
+    }
+  }
+
+  /// The Embree device, for callers who add their own Embree objects (errors still surface here).
+  RTCDevice device() const noexcept { return state_->device; }
+  /// The top-level Embree scene.
+  RTCScene embree_scene() const noexcept { return state_->top; }
+
+  /// Throws EmbreeError if Embree recorded an error on this device since the last check; `what`
+  /// names the operation in the message.
+  void check(const std::string& what) const { state_->check(what); }
+
+ private:
+  /// One mesh: its Embree scene and triangle geometry.
+  struct MeshEntry {
+    std::string name;                 ///< For messages.
+    RTCScene scene = nullptr;         ///< Scene holding only this mesh.
+    RTCGeometry geometry = nullptr;   ///< Triangle geometry (null for a mesh without triangles).
+    float* vertices = nullptr;        ///< Embree-owned vertex buffer.
+    std::size_t vertex_count = 0;     ///< Vertices.
+    bool dirty = false;               ///< Needs a refit at commit().
+  };
+
+  /// Everything Embree owns, kept at a stable address for the error callback.
+  struct State {
+    RTCDevice device = nullptr;             ///< The device.
+    RTCScene top = nullptr;                 ///< Instance level.
+    std::vector<MeshEntry> meshes;          ///< One per Scene mesh.
+    std::vector<RTCGeometry> instances;     ///< One per Scene instance.
+    std::vector<std::size_t> instance_mesh;  ///< Mesh index of each instance.
+    std::vector<std::pair<int, glm::mat4>> pending_transforms;  ///< Instance moves waiting for commit().
+    bool top_dirty = false;                 ///< Needs a re-commit.
+    mutable std::mutex error_mutex;         ///< Guards `error_message` (Embree may report from any thread).
+    std::string error_message;              ///< First message since the last check.
+
+    static void on_error(void* user, RTCError code, const char* message) {
+      auto* state = static_cast<State*>(user);
+      const std::lock_guard lock(state->error_mutex);
+      if (state->error_message.empty())
+        state->error_message = std::string(detail::embree_error_name(code)) + ": " + (message ? message : "");
+    }
+
+    void check(const std::string& what) {
+      const RTCError code = rtcGetDeviceError(device);
+      std::string message;
+      {
+        const std::lock_guard lock(error_mutex);
+        message.swap(error_message);
+      }
+      if (code == RTC_ERROR_NONE && message.empty()) return;
+      if (message.empty()) message = detail::embree_error_name(code);
+      throw EmbreeError("igi::EmbreeBackend: " + what + ": " + message);
+    }
+
+    ~State() {
+      for (RTCGeometry instance : instances) rtcReleaseGeometry(instance);
+      if (top) rtcReleaseScene(top);
+      for (MeshEntry& mesh : meshes) {
+        if (mesh.geometry) rtcReleaseGeometry(mesh.geometry);
+        if (mesh.scene) rtcReleaseScene(mesh.scene);
+      }
+      if (device) rtcReleaseDevice(device);
+    }
+  };
+
+  void add_mesh(const Mesh& source, unsigned index) {
+    MeshEntry& mesh = state_->meshes.emplace_back();
+    mesh.name = source.name;
+    mesh.vertex_count = source.positions.size();
+    mesh.scene = rtcNewScene(state_->device);
+    // Robust traversal and the watertight triangle test: rays through shared edges never leak.
+    rtcSetSceneFlags(mesh.scene, RTC_SCENE_FLAG_ROBUST);
+    check("rtcNewScene (mesh '" + mesh.name + "')");
+    if (source.triangles.empty()) return;
+    mesh.geometry = rtcNewGeometry(state_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Vertex changes refit the existing hierarchy instead of rebuilding it.
+    rtcSetGeometryBuildQuality(mesh.geometry, RTC_BUILD_QUALITY_REFIT);
+    mesh.vertices = static_cast<float*>(rtcSetNewGeometryBuffer(mesh.geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                                RTC_FORMAT_FLOAT3, sizeof(glm::vec3),
+                                                                source.positions.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(mesh.geometry, RTC_BUFFER_TYPE_INDEX, 0,
+                                                                   RTC_FORMAT_UINT3, sizeof(glm::uvec3),
+                                                                   source.triangles.size()));
+    check("rtcSetNewGeometryBuffer (mesh '" + mesh.name + "')");
+    std::memcpy(mesh.vertices, source.positions.data(), source.positions.size() * sizeof(glm::vec3));
+    std::memcpy(indices, source.triangles.data(), source.triangles.size() * sizeof(glm::uvec3));
+    rtcCommitGeometry(mesh.geometry);
+    rtcAttachGeometryByID(mesh.scene, mesh.geometry, index);
+    check("rtcAttachGeometryByID (mesh '" + mesh.name + "')");
+    mesh.dirty = true;
+  }
+
+  void add_instance(const Instance& source, unsigned index) {
+    RTCGeometry instance = rtcNewGeometry(state_->device, RTC_GEOMETRY_TYPE_INSTANCE);
+    state_->instances.push_back(instance);
+    state_->instance_mesh.push_back(std::size_t(source.mesh));
+    rtcSetGeometryInstancedScene(instance, state_->meshes[std::size_t(source.mesh)].scene);
+    rtcSetGeometryTimeStepCount(instance, 1);
+    rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &source.transform[0][0]);
+    rtcCommitGeometry(instance);
+    rtcAttachGeometryByID(state_->top, instance, index);
+    check("instance " + std::to_string(index) + " ('" + source.name + "')");
+    state_->top_dirty = true;
+  }
+
+  void commit_all() {
+    // Mesh scenes are committed before the instances that reference them.
+    commit();
+  }
+
+  /// Embree's valid[] array: -1 for lanes in `mask` with a non-empty interval, 0 elsewhere.
+  template <int N>
+  struct alignas(packet_alignment) ValidLanes {
+    int lane[N];  ///< -1 = trace, 0 = leave alone; Embree loads it with aligned vector loads.
+    const int* data() const noexcept { return lane; }
+    int operator[](std::size_t i) const noexcept { return lane[i]; }
+  };
+  template <int N>
+  static ValidLanes<N> valid_lanes(const RayPacket<N>& rays, const vmask<N>& mask) noexcept {
+    ValidLanes<N> valid;
+    for (int lane = 0; lane < N; ++lane) valid.lane[lane] = mask[lane] && rays.tnear[lane] <= rays.tfar[lane] ? -1 : 0;
+    return valid;
+  }
+
+  template <int N>
+  static RTCIntersectContext context() noexcept {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    // Packets come from neighbouring pixels or share an end point: Embree's coherent mode.
+    context.flags = N > 1 ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    return context;
+  }
+
+  template <int N>
+  static void trace_closest(RTCScene top, RayPacket<N>& rays, HitPacket<N>& hits, const vmask<N>& mask) {
+    using EmbreeRay = typename detail::EmbreePacketTypes<N>::Ray;
+    using EmbreeRayHit = typename detail::EmbreePacketTypes<N>::RayHit;
+    // Embree wants ray and hit adjacent; ours are separate objects, so the ray block (laid out as
+    // Embree's, checked above) is copied in and the active lanes' results copied back.
+    alignas(packet_alignment) EmbreeRayHit both;
+    std::memcpy(&both.ray, &rays, sizeof(EmbreeRay));
+    auto* hit_lanes = reinterpret_cast<HitPacket<N>*>(&both.hit);
+    for (int lane = 0; lane < N; ++lane) {
+      hit_lanes->geomID[lane] = hit_lanes->primID[lane] = hit_lanes->instID[lane] = invalid_id;
+      hit_lanes->Ng_x[lane] = hit_lanes->Ng_y[lane] = hit_lanes->Ng_z[lane] = hit_lanes->u[lane] = hit_lanes->v[lane] = 0.0f;
+    }
+    RTCIntersectContext ctx = context<N>();
+    const ValidLanes<N> valid = valid_lanes(rays, mask);
+    if constexpr (N == 1) {
+      if (valid[0]) rtcIntersect1(top, &ctx, &both);
+    } else if constexpr (N == 4) {
+      rtcIntersect4(valid.data(), top, &ctx, &both);
+    } else if constexpr (N == 8) {
+      rtcIntersect8(valid.data(), top, &ctx, &both);
+    } else {
+      rtcIntersect16(valid.data(), top, &ctx, &both);
+    }
+    const auto* traced = reinterpret_cast<const RayPacket<N>*>(&both.ray);
+    for (int lane = 0; lane < N; ++lane) {
+      if (!mask[lane]) continue;
+      rays.tfar[lane] = traced->tfar[lane];
+      hits.Ng_x[lane] = hit_lanes->Ng_x[lane];
+      hits.Ng_y[lane] = hit_lanes->Ng_y[lane];
+      hits.Ng_z[lane] = hit_lanes->Ng_z[lane];
+      hits.u[lane] = hit_lanes->u[lane];
+      hits.v[lane] = hit_lanes->v[lane];
+      hits.primID[lane] = hit_lanes->primID[lane];
+      hits.geomID[lane] = hit_lanes->geomID[lane];
+      hits.instID[lane] = hit_lanes->instID[lane];
+    }
+  }
+
+  template <int N>
+  static vmask<N> trace_any(RTCScene top, RayPacket<N>& rays, const vmask<N>& mask) {
+    using EmbreeRay = typename detail::EmbreePacketTypes<N>::Ray;
+    RTCIntersectContext ctx = context<N>();
+    const ValidLanes<N> valid = valid_lanes(rays, mask);
+    // Occlusion needs no hit record: Embree reads and writes the packet in place.
+    auto* embree_rays = reinterpret_cast<EmbreeRay*>(&rays);
+    if constexpr (N == 1) {
+      if (valid[0]) rtcOccluded1(top, &ctx, embree_rays);
+    } else if constexpr (N == 4) {
+      rtcOccluded4(valid.data(), top, &ctx, embree_rays);
+    } else if constexpr (N == 8) {
+      rtcOccluded8(valid.data(), top, &ctx, embree_rays);
+    } else {
+      rtcOccluded16(valid.data(), top, &ctx, embree_rays);
+    }
+    vmask<N> blocked;
+    for (int lane = 0; lane < N; ++lane)
+      blocked.set(lane, valid[std::size_t(lane)] != 0 && rays.tfar[lane] == -std::numeric_limits<float>::infinity());
+    return blocked;
+  }
+
+  std::unique_ptr<State> state_;  ///< Embree objects.
+};
+
+}  // namespace igi

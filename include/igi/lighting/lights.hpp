@@ -1,0 +1,386 @@
+#pragma once
+/// \file
+/// Light sources behind one sampling interface. An emitter has a power (W, RGB) and samples
+/// emission from four uniform numbers: where a light particle starts, where it goes, how much
+/// flux it carries, and the VPL that stands for the emitter at that point. `LightSet` collects
+/// a scene's emitters (emissive triangles as area lights, KHR punctual point / spot /
+/// directional lights) plus any user-defined ones, and picks among them in proportion to power.
+///
+/// Conventions: a sample describes the emitter as if that one particle carried its whole power
+/// (`flux` has expectation `power()`, the VPL's sum over samples is the emitter's light); a
+/// sampler that shoots N particles scales both by 1 / (N x choice probability). A light's
+/// scalar weight for choosing is the mean of its RGB power.
+
+#include <algorithm>
+#include <cmath>
+#include <concepts>
+#include <cstddef>
+#include <memory>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "igi/lighting/vpl.hpp"
+#include "igi/scene/scene.hpp"
+
+namespace igi {
+
+
+/// One sampled light particle.
+struct EmissionSample {
+  Vpl vpl;                     ///< The emitter's VPL at `origin`, carrying the emitter's whole power.
+  glm::vec3 origin{0.0f};      ///< Where the particle starts.
+  glm::vec3 direction{0.0f, 0.0f, 1.0f};  ///< Unit direction the particle leaves in.
+  glm::vec3 flux{0.0f};        ///< Flux the particle carries (W); its expectation is the emitter's power.
+};
+
+/// What an emitter provides: `power()` (W, RGB) and `sample_emission(u1, u2, u3, u4)` with the
+/// four numbers uniform in [0, 1) (u1, u2 place the particle, u3, u4 direct it).
+template <class E>
+concept EmitterModel = requires(const E& emitter, float u) {
+  { emitter.power() } -> std::convertible_to<glm::vec3>;
+  { emitter.sample_emission(u, u, u, u) } -> std::same_as<EmissionSample>;
+};
+
+/// A type-erased emitter: any EmitterModel, copied cheaply (shared, immutable).
+class Emitter {
+ public:
+  /// Wraps `model`.
+  template <EmitterModel E>
+    requires(!std::same_as<std::decay_t<E>, Emitter>)
+  Emitter(E model)  // NOLINT(google-explicit-constructor): any model is an emitter
+      : model_(std::make_shared<const Model<E>>(std::move(model))) {}
+  /// Emitted power (W, RGB).
+  glm::vec3 power() const { return model_->power(); }
+  /// A particle from u1..u4 in [0, 1).
+  EmissionSample sample_emission(float u1, float u2, float u3, float u4) const {
+    return model_->sample_emission(u1, u2, u3, u4);
+  }
+
+ private:
+  struct Interface {
+    virtual ~Interface() = default;
+    virtual glm::vec3 power() const = 0;
+    virtual EmissionSample sample_emission(float, float, float, float) const = 0;
+  };
+  template <class E>
+  struct Model final : Interface {
+    explicit Model(E e) : emitter(std::move(e)) {}
+    glm::vec3 power() const override { return emitter.power(); }
+    EmissionSample sample_emission(float u1, float u2, float u3, float u4) const override {
+      return emitter.sample_emission(u1, u2, u3, u4);
+    }
+    E emitter;
+  };
+  std::shared_ptr<const Interface> model_;
+};
+
+/// Unit vectors `t1`, `t2` completing unit `n` to a right-handed orthonormal basis.
+inline void orthonormal_basis(const glm::vec3& n, glm::vec3& t1, glm::vec3& t2) noexcept {
+  // Branch on the sign of z so the division never approaches 0 (the singular point is avoided).
+  const float sign = n.z >= 0.0f ? 1.0f : -1.0f;
+  const float a = -1.0f / (sign + n.z);
+  const float b = n.x * n.y * a;
+  t1 = glm::vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+  t2 = glm::vec3(b, sign + n.y * n.y * a, -n.y);
+}
+
+/// Cosine-distributed unit direction around unit `n` (density cos(theta) / pi).
+inline glm::vec3 sample_cosine_hemisphere(const glm::vec3& n, float u1, float u2) noexcept {
+  glm::vec3 t1, t2;
+  orthonormal_basis(n, t1, t2);
+  const float r = std::sqrt(u1), phi = 2.0f * std::numbers::pi_v<float> * u2;
+  const float z = std::sqrt(std::max(0.0f, 1.0f - u1));
+  return glm::normalize(t1 * (r * std::cos(phi)) + t2 * (r * std::sin(phi)) + n * z);
+}
+
+namespace light_detail {
+/// Largest of the three components.
+inline float largest_component(const glm::vec3& v) noexcept { return std::max(std::max(v.x, v.y), v.z); }
+/// Throws std::invalid_argument unless every component of `v` is finite and >= 0.
+inline void check_emission(const glm::vec3& v, const std::string& what) {
+  for (int c = 0; c < 3; ++c)
+    if (!std::isfinite(v[c]) || v[c] < 0.0f)
+      throw std::invalid_argument(what + " must be finite and non-negative, got (" + std::to_string(v.x) + ", " +
+                                  std::to_string(v.y) + ", " + std::to_string(v.z) + ")");
+}
+/// `v` normalised; throws std::invalid_argument naming `what` if it is zero or not finite.
+inline glm::vec3 unit_direction(const glm::vec3& v, const std::string& what) {
+  const float length2 = glm::dot(v, v);
+  if (!(length2 > 0.0f) || !std::isfinite(length2)) throw std::invalid_argument(what + " has no direction (zero or non-finite)");
+  return v / std::sqrt(length2);
+}
+}  // namespace light_detail
+
+/// A world-space triangle of uniform emitted radiance (an area light), Lambertian, emitting
+/// from its front face (counter-clockwise side) or from both faces.
+class TriangleEmitter {
+ public:
+  /// Triangle (p0, p1, p2) emitting radiance `radiance`; throws on negative or non-finite radiance.
+  TriangleEmitter(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, const glm::vec3& radiance,
+                  bool double_sided = false)
+      : p0_(p0), e1_(p1 - p0), e2_(p2 - p0), radiance_(radiance), double_sided_(double_sided) {
+    light_detail::check_emission(radiance, "TriangleEmitter radiance");
+    const glm::vec3 c = glm::cross(e1_, e2_);
+    const float length = glm::length(c);
+    area_ = 0.5f * length;
+    normal_ = length > 0.0f ? c / length : glm::vec3(0.0f, 0.0f, 1.0f);
+  }
+  /// Radiance x area x pi per emitting face.
+  glm::vec3 power() const noexcept { return radiance_ * (area_ * std::numbers::pi_v<float> * (double_sided_ ? 2.0f : 1.0f)); }
+  /// Uniform point (u1, u2), cosine-distributed direction (u3, u4); u3 also picks the face.
+  EmissionSample sample_emission(float u1, float u2, float u3, float u4) const noexcept {
+    const float s = std::sqrt(u1);
+    const glm::vec3 position = p0_ + e1_ * (s * (1.0f - u2)) + e2_ * (s * u2);
+    glm::vec3 normal = normal_;
+    if (double_sided_) {
+      // Half of u3's range per face, rescaled to [0, 1) for the direction.
+      if (u3 < 0.5f) {
+        u3 *= 2.0f;
+      } else {
+        u3 = 2.0f * u3 - 1.0f;
+        normal = -normal;
+      }
+    }
+    EmissionSample sample;
+    sample.origin = position;
+    sample.direction = sample_cosine_hemisphere(normal, u3, u4);
+    sample.flux = power();
+    sample.vpl.position = position;
+    sample.vpl.normal = normal;
+    sample.vpl.kind = VplKind::surface;
+    sample.vpl.intensity = power() / std::numbers::pi_v<float>;  // a Lambertian emitter of flux P has intensity P / pi along its normal
+    return sample;
+  }
+  /// Area of the triangle.
+  float area() const noexcept { return area_; }
+
+ private:
+  glm::vec3 p0_, e1_, e2_, radiance_, normal_{0.0f, 0.0f, 1.0f};
+  float area_ = 0.0f;
+  bool double_sided_ = false;
+};
+
+/// An isotropic point light of radiant intensity `intensity` (W/sr).
+class PointEmitter {
+ public:
+  /// Point light at `position`; throws on negative or non-finite intensity.
+  PointEmitter(const glm::vec3& position, const glm::vec3& intensity) : position_(position), intensity_(intensity) {
+    light_detail::check_emission(intensity, "PointEmitter intensity");
+  }
+  /// 4 pi x intensity.
+  glm::vec3 power() const noexcept { return intensity_ * (4.0f * std::numbers::pi_v<float>); }
+  /// Uniform direction on the sphere from (u3, u4).
+  EmissionSample sample_emission(float, float, float u3, float u4) const noexcept {
+    const float z = 1.0f - 2.0f * u3, r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * std::numbers::pi_v<float> * u4;
+    EmissionSample sample;
+    sample.origin = position_;
+    sample.direction = glm::normalize(glm::vec3(r * std::cos(phi), r * std::sin(phi), z));
+    sample.flux = power();
+    sample.vpl = {.position = position_, .normal = {0.0f, 1.0f, 0.0f}, .intensity = intensity_, .kind = VplKind::omni};
+    return sample;
+  }
+
+ private:
+  glm::vec3 position_, intensity_;
+};
+
+/// A spot light: intensity `intensity` (W/sr) inside the inner cone, falling off as connect()'s
+/// profile t^2, t = (cos - cos_outer) / (cos_inner - cos_outer), to zero at the outer cone.
+class SpotEmitter {
+ public:
+  /// Spot at `position` shining along `direction` with cone half-angles in radians.
+  SpotEmitter(const glm::vec3& position, const glm::vec3& direction, const glm::vec3& intensity, float inner_angle,
+              float outer_angle)
+      : position_(position), axis_(light_detail::unit_direction(direction, "SpotEmitter direction")), intensity_(intensity) {
+    light_detail::check_emission(intensity, "SpotEmitter intensity");
+    if (!std::isfinite(inner_angle) || !std::isfinite(outer_angle) || outer_angle <= 0.0f || outer_angle > std::numbers::pi_v<float>)
+      throw std::invalid_argument("SpotEmitter: outer cone angle must be in (0, pi], got " + std::to_string(outer_angle));
+    cos_outer_ = std::cos(outer_angle);
+    cos_inner_ = std::cos(std::clamp(inner_angle, 0.0f, outer_angle));
+    // Integral of the profile over the sphere: full inside the inner cone, the t^2 ramp between.
+    profile_solid_angle_ = 2.0f * std::numbers::pi_v<float> * ((1.0f - cos_inner_) + (cos_inner_ - cos_outer_) / 3.0f);
+  }
+  /// Intensity x the solid-angle integral of the profile.
+  glm::vec3 power() const noexcept { return intensity_ * profile_solid_angle_; }
+  /// Direction uniform in the outer cone from (u3, u4), flux weighted by the profile.
+  EmissionSample sample_emission(float, float, float u3, float u4) const noexcept {
+    const float cos_theta = 1.0f - u3 * (1.0f - cos_outer_);
+    const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta)), phi = 2.0f * std::numbers::pi_v<float> * u4;
+    glm::vec3 t1, t2;
+    orthonormal_basis(axis_, t1, t2);
+    const float width = std::max(cos_inner_ - cos_outer_, 1e-6f);  // the same guard as connect()
+    const float t = std::clamp((cos_theta - cos_outer_) / width, 0.0f, 1.0f);
+    const float cone_solid_angle = 2.0f * std::numbers::pi_v<float> * (1.0f - cos_outer_);
+    EmissionSample sample;
+    sample.origin = position_;
+    sample.direction = glm::normalize(t1 * (sin_theta * std::cos(phi)) + t2 * (sin_theta * std::sin(phi)) + axis_ * cos_theta);
+    // Uniform density 1 / cone; emitted flux density intensity x profile: weight profile x cone / integral.
+    sample.flux = profile_solid_angle_ > 0.0f ? power() * (t * t * cone_solid_angle / profile_solid_angle_) : glm::vec3(0.0f);
+    sample.vpl = {.position = position_,
+                  .normal = axis_,
+                  .intensity = intensity_,
+                  .kind = VplKind::spot,
+                  .cos_inner = cos_inner_,
+                  .cos_outer = cos_outer_};
+    return sample;
+  }
+
+ private:
+  glm::vec3 position_, axis_, intensity_;
+  float cos_inner_ = 1.0f, cos_outer_ = 0.0f, profile_solid_angle_ = 0.0f;
+};
+
+/// A directional light of irradiance `irradiance` (W/m^2 on a perpendicular surface). Particles
+/// start on a disc perpendicular to the light that covers the scene's bounding sphere, placed
+/// upstream of it, so every point of the scene is reachable and the disc's power is the light
+/// the scene can receive.
+class DirectionalEmitter {
+ public:
+  /// Light travelling along `direction`, covering `scene_bounds`.
+  DirectionalEmitter(const glm::vec3& direction, const glm::vec3& irradiance, const Bounds& scene_bounds)
+      : direction_(light_detail::unit_direction(direction, "DirectionalEmitter direction")), irradiance_(irradiance) {
+    light_detail::check_emission(irradiance, "DirectionalEmitter irradiance");
+    if (!scene_bounds.empty()) {
+      radius_ = 0.5f * glm::length(scene_bounds.extent());
+      center_ = scene_bounds.center() - direction_ * radius_;
+    }
+    orthonormal_basis(direction_, t1_, t2_);
+  }
+  /// Irradiance x disc area.
+  glm::vec3 power() const noexcept { return irradiance_ * (std::numbers::pi_v<float> * radius_ * radius_); }
+  /// Uniform point on the disc from (u1, u2).
+  EmissionSample sample_emission(float u1, float u2, float, float) const noexcept {
+    const float r = radius_ * std::sqrt(u1), phi = 2.0f * std::numbers::pi_v<float> * u2;
+    EmissionSample sample;
+    sample.origin = center_ + t1_ * (r * std::cos(phi)) + t2_ * (r * std::sin(phi));
+    sample.direction = direction_;
+    sample.flux = power();
+    sample.vpl = {.position = sample.origin, .normal = direction_, .intensity = irradiance_, .kind = VplKind::directional};
+    return sample;
+  }
+  /// Radius of the emitting disc.
+  float radius() const noexcept { return radius_; }
+
+ private:
+  glm::vec3 direction_, irradiance_, center_{0.0f}, t1_{1, 0, 0}, t2_{0, 1, 0};
+  float radius_ = 0.0f;
+};
+
+/// The VPL's emitted flux as the pipeline will see it: pi x intensity for surface VPLs, 4 pi x
+/// intensity for omni, the profile integral for spots; for directional VPLs (which have no
+/// finite flux) `directional_area` x irradiance.
+inline glm::vec3 vpl_flux(const Vpl& vpl, float directional_area) noexcept {
+  switch (vpl.kind) {
+    case VplKind::surface: return vpl.intensity * std::numbers::pi_v<float>;
+    case VplKind::omni: return vpl.intensity * (4.0f * std::numbers::pi_v<float>);
+    case VplKind::spot:
+      return vpl.intensity * (2.0f * std::numbers::pi_v<float> * ((1.0f - vpl.cos_inner) + (vpl.cos_inner - vpl.cos_outer) / 3.0f));
+    case VplKind::directional: return vpl.intensity * directional_area;
+  }
+  return glm::vec3(0.0f);
+}
+
+/// All emitters of a scene, chosen in proportion to power.
+class LightSet {
+ public:
+  /// No lights.
+  LightSet() = default;
+  /// The emissive triangles of every instance (world space; radiance = the material's emission
+  /// factor, an emissive texture is not integrated) and the punctual lights of `scene`. Throws
+  /// std::invalid_argument on a light with negative, non-finite or directionless parameters.
+  explicit LightSet(const Scene& scene) {
+    const Bounds bounds = scene.bounds();
+    for (const Instance& instance : scene.instances) {
+      if (instance.mesh < 0 || std::size_t(instance.mesh) >= scene.meshes.size())
+        throw std::invalid_argument("LightSet: instance '" + instance.name + "' refers to mesh " +
+                                    std::to_string(instance.mesh) + " which the scene lacks");
+      const Mesh& mesh = scene.meshes[std::size_t(instance.mesh)];
+      const Material& material = scene.material_of(instance.mesh);
+      if (!material.emissive()) continue;
+      light_detail::check_emission(material.emission, "LightSet: emission of material '" + material.name + "'");
+      for (const glm::uvec3& t : mesh.triangles) {
+        if (t.x >= mesh.positions.size() || t.y >= mesh.positions.size() || t.z >= mesh.positions.size())
+          throw std::invalid_argument("LightSet: mesh '" + mesh.name + "' indexes a vertex it lacks");
+        const auto world = [&](unsigned i) { return glm::vec3(instance.transform * glm::vec4(mesh.positions[i], 1.0f)); };
+        TriangleEmitter emitter(world(t.x), world(t.y), world(t.z), material.emission, material.double_sided);
+        if (emitter.area() > 0.0f) add(std::move(emitter));
+      }
+    }
+    for (const PunctualLight& light : scene.lights) {
+      const std::string what = "LightSet: light '" + light.name + "'";
+      if (!std::isfinite(light.intensity) || light.intensity < 0.0f)
+        throw std::invalid_argument(what + " has intensity " + std::to_string(light.intensity));
+      const glm::vec3 radiant = light.color * light.intensity;
+      try {
+        switch (light.kind) {
+          case PunctualKind::point: add(PointEmitter(light.position, radiant)); break;
+          case PunctualKind::spot:
+            add(SpotEmitter(light.position, light.direction, radiant, light.inner_cone, light.outer_cone));
+            break;
+          case PunctualKind::directional: add(DirectionalEmitter(light.direction, radiant, bounds)); break;
+        }
+      } catch (const std::invalid_argument& error) {
+        throw std::invalid_argument(what + ": " + error.what());
+      }
+    }
+  }
+
+  /// Adds an emitter (user-defined or built-in); emitters without power are ignored.
+  void add(Emitter emitter) {
+    const glm::vec3 power = emitter.power();
+    light_detail::check_emission(power, "LightSet: emitter power");
+    const float weight = (power.x + power.y + power.z) / 3.0f;
+    if (!(weight > 0.0f)) return;
+    emitters_.push_back(std::move(emitter));
+    weights_.push_back(weight);
+    total_weight_ += double(weight);
+    cumulative_.push_back(total_weight_);
+  }
+  /// Number of emitters.
+  std::size_t size() const noexcept { return emitters_.size(); }
+  /// True if nothing emits.
+  bool empty() const noexcept { return emitters_.empty(); }
+  /// Emitter `i`.
+  const Emitter& emitter(std::size_t i) const noexcept { return emitters_[i]; }
+  /// Sum of the emitters' scalar weights (mean RGB power), W.
+  double total_weight() const noexcept { return total_weight_; }
+  /// Sum of the emitters' RGB power, W.
+  glm::vec3 total_power() const {
+    glm::dvec3 sum(0.0);
+    for (const Emitter& e : emitters_) sum += glm::dvec3(e.power());
+    return glm::vec3(sum);
+  }
+
+  /// An emitter picked by `u` in [0, 1) with probability weight / total weight.
+  struct Choice {
+    std::size_t index = 0;    ///< The emitter.
+    float probability = 0.0f; ///< Its probability.
+    float u = 0.0f;           ///< `u` rescaled to [0, 1) within the emitter's interval (reusable).
+  };
+  /// Picks an emitter by inverting the power CDF; requires a non-empty set.
+  Choice choose(float u) const {
+    if (empty()) throw std::logic_error("LightSet::choose: there are no emitters");
+    const double target = double(std::clamp(u, 0.0f, 1.0f)) * total_weight_;
+    auto it = std::upper_bound(cumulative_.begin(), cumulative_.end(), target);
+    if (it == cumulative_.end()) --it;
+    const std::size_t index = std::size_t(it - cumulative_.begin());
+    const double low = index == 0 ? 0.0 : cumulative_[index - 1];
+    const double weight = double(weights_[index]);
+    // The largest float below 1 keeps the rescaled number inside [0, 1).
+    const float rescaled = std::min(float((target - low) / weight), 0x1.fffffep-1f);
+    return {index, float(weight / total_weight_), std::max(rescaled, 0.0f)};
+  }
+
+ private:
+  std::vector<Emitter> emitters_;
+  std::vector<float> weights_;
+  std::vector<double> cumulative_;
+  double total_weight_ = 0.0;
+};
+
+}  // namespace igi

@@ -1,0 +1,256 @@
+#pragma once
+/// \file
+/// `QmcVplSampler`: the paper's VPLs, from random walks of light particles driven by a
+/// randomized (scrambled) Halton sequence.
+///
+/// Per frame and interleaving set, N walks start on the lights. N = max(1, round(M / m)) with
+/// M = vpls_per_set and m the mean number of VPLs one walk leaves in this scene, measured by a
+/// pilot of 256 walks on an independent scrambling of the sequence that depends on the seed but
+/// not on the frame (so N is steady while the scene is, and independent of the frame's walks,
+/// which keeps every set unbiased whatever N is). A set then holds about M VPLs: N on the
+/// lights, the rest where the walks bounced. Walk j of set s uses Halton index s N + j, so the
+/// sets take /// consecutive, disjoint blocks of one sequence; the sequence is scrambled by hash(seed, frame),
+/// so VPLs are a pure function of (scene, settings, frame, seed). Dimensions: 0 picks the light
+/// (in proportion to power), 1-2 place the particle, 3-4 direct it, then three per bounce
+/// (Russian roulette / lobe choice, two for the direction); past Halton's 32 dimensions a
+/// counter-based hash of (scrambling seed, index, dimension) continues.
+///
+/// Normalisation: a particle from light l, chosen with probability p_l, carries flux
+/// power_l / (p_l N). The set's first N VPLs are the particles' origins on the lights (area-light
+/// samples as surface VPLs of intensity flux / pi, point and spot lights as omni / spot VPLs,
+/// directional lights as directional VPLs), so direct light comes out of the same sum. At each
+/// diffuse hit the particle leaves a surface VPL of intensity flux x albedo / pi; it continues
+/// with probability q_d = max(albedo) (diffusely, flux x albedo / q_d), or through the mirror /
+/// glass lobes with probability max(weight) (flux x weight / that), or stops. Every weight is an
+/// unbiased estimate, so each set alone sums (in expectation) to the full light transport, and
+/// any average of sets does too; that is what lets interleaving give each pixel one set. The
+/// 1/d^2 clamp lives in connect(); nothing is clamped here. Walks end after `max_bounces`
+/// scattering events (a bias of at most q^max_bounces of the indirect light).
+/// Glossy lobes do not scatter particles (their energy ends the walk).
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "igi/backends/packet.hpp"
+#include "igi/lighting/lights.hpp"
+#include "igi/lighting/vpl_sampler.hpp"
+#include "igi/scene/scene.hpp"
+#include "igi/shading/brdf_shaders.hpp"
+#include "igi/shading/gltf_material_shader.hpp"
+#include "igi/shading/surface_hit_builder.hpp"
+#include "igi/shading/surface_shader.hpp"
+#include "igi/simd/sampling.hpp"
+
+namespace igi {
+
+/// Where a VPL came from, parallel to VplSets::sets (for tests and statistics).
+struct VplOrigin {
+  int walk = 0;    ///< Walk index within the set.
+  int bounce = 0;  ///< 0 on a light, k after k scattering events.
+};
+
+/// VPLs with their origins.
+struct VplGeneration {
+  VplSets vpls;                                ///< The VPL sets.
+  std::vector<std::vector<VplOrigin>> origins; ///< origins[s][i] describes vpls.sets[s][i].
+  int walks_per_set = 0;                       ///< N: walks (particles) per set.
+  double vpls_per_walk = 0.0;                  ///< m: the pilot's mean VPLs per walk, which sized N.
+};
+
+/// QMC random-walk VPL sampler (instant radiosity with randomized Halton), the paper's default.
+class QmcVplSampler {
+ public:
+  /// Policy name.
+  static constexpr const char* name() noexcept { return "qmc"; }
+
+  /// Adds a user-defined emitter, lit along with the scene's lights in every frame.
+  void add_emitter(Emitter emitter) { user_emitters_.push_back(std::move(emitter)); }
+
+  /// The frame's VPL sets, hits shaded with the scene's glTF materials.
+  template <class Tracer>
+  VplSets generate(const Scene& scene, const Tracer& tracer, const VplSettings& settings) const {
+    return generate_with_origins(scene, tracer, settings, GltfMaterialShader(scene)).vpls;
+  }
+
+  /// The frame's VPL sets and where each came from; `shader` (a SurfaceShader at width 1) gives
+  /// the albedo, mirror and glass weights of hit surfaces. Throws std::invalid_argument on bad settings.
+  template <class Tracer, class Shader>
+    requires SurfaceShader<Shader, 1>
+  VplGeneration generate_with_origins(const Scene& scene, const Tracer& tracer, const VplSettings& settings,
+                                      const Shader& shader) const {
+    check(settings);
+    LightSet lights(scene);
+    for (const Emitter& e : user_emitters_) lights.add(e);
+    VplGeneration out;
+    out.vpls.sets.resize(std::size_t(settings.sets));
+    out.origins.resize(std::size_t(settings.sets));
+    if (lights.empty()) return out;
+
+    const SceneGeometry geometry(scene);
+    const StandardBrdf brdf;
+    out.vpls_per_walk = pilot(scene, geometry, tracer, shader, brdf, settings, lights);
+    out.walks_per_set = std::max(1, int(std::lround(double(settings.vpls_per_set) / out.vpls_per_walk)));
+    const std::uint32_t scramble = hash(settings.seed, settings.frame);
+    const Halton halton(scramble);
+    const int n = out.walks_per_set;
+    for (int s = 0; s < settings.sets; ++s) {
+      std::vector<Vpl>& set = out.vpls.sets[std::size_t(s)];
+      std::vector<Vpl> bounced;
+      std::vector<VplOrigin> bounced_origins;
+      for (int j = 0; j < n; ++j) {
+        const std::uint64_t index = std::uint64_t(s) * std::uint64_t(n) + std::uint64_t(j);
+        const auto u = [&](int dimension) { return sample(halton, scramble, dimension, index); };
+        set.push_back(start_walk(scene, geometry, tracer, shader, brdf, settings, lights, n, u, j, bounced, bounced_origins));
+        out.origins[std::size_t(s)].push_back({j, 0});
+      }
+      set.insert(set.end(), bounced.begin(), bounced.end());
+      out.origins[std::size_t(s)].insert(out.origins[std::size_t(s)].end(), bounced_origins.begin(), bounced_origins.end());
+    }
+    return out;
+  }
+
+ private:
+  static void check(const VplSettings& settings) {
+    if (settings.sets < 1) throw std::invalid_argument("QmcVplSampler: sets must be >= 1, got " + std::to_string(settings.sets));
+    if (settings.vpls_per_set < 1)
+      throw std::invalid_argument("QmcVplSampler: vpls_per_set must be >= 1, got " + std::to_string(settings.vpls_per_set));
+    if (settings.max_bounces < 0)
+      throw std::invalid_argument("QmcVplSampler: max_bounces must be >= 0, got " + std::to_string(settings.max_bounces));
+  }
+
+  /// Halton dimension `dimension` of point `index`; beyond the 32 Halton dimensions a hash.
+  static float sample(const Halton& halton, std::uint32_t scramble, int dimension, std::uint64_t index) {
+    constexpr int halton_dimensions = 32;  // the bases sampling.hpp provides
+    if (dimension < halton_dimensions) return halton.sample(dimension, index);
+    return to_unit_float(hash(hash(scramble, std::uint32_t(index) ^ std::uint32_t(index >> 32)), std::uint32_t(dimension)));
+  }
+
+  /// Walk `j` of `n`: picks a light and an emission with u(0..4), follows the particle, appends
+  /// its bounce VPLs, and returns the VPL on the light.
+  template <class Tracer, class Shader, class Sample>
+  static Vpl start_walk(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
+                        const StandardBrdf& brdf, const VplSettings& settings, const LightSet& lights, int n,
+                        const Sample& u, int j, std::vector<Vpl>& bounced, std::vector<VplOrigin>& bounced_origins) {
+    const LightSet::Choice choice = lights.choose(u(0));
+    const EmissionSample emission = lights.emitter(choice.index).sample_emission(u(1), u(2), u(3), u(4));
+    const float scale = 1.0f / (choice.probability * float(n));
+    Vpl light_vpl = emission.vpl;
+    light_vpl.intensity *= scale;
+    walk(scene, geometry, tracer, shader, brdf, settings, emission.origin, emission.direction, emission.flux * scale, u, j,
+         bounced, bounced_origins);
+    return light_vpl;
+  }
+
+  /// m: mean VPLs per walk over a pilot of walks scrambled by the seed alone.
+  template <class Tracer, class Shader>
+  static double pilot(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
+                      const StandardBrdf& brdf, const VplSettings& settings, const LightSet& lights) {
+    // 256 walks measure m to a few percent (its relative error is about the walk-length spread
+    // over 16) for a few hundred rays, next to the thousands a frame's VPLs cost.
+    constexpr int pilot_walks = 256;
+    // An arbitrary salt that separates the pilot's scrambling from every frame's.
+    constexpr std::uint32_t pilot_salt = 0x70696c74u;
+    const std::uint32_t scramble = hash(hash(settings.seed, pilot_salt));
+    const Halton halton(scramble);
+    std::vector<Vpl> bounced;
+    std::vector<VplOrigin> origins;
+    for (int j = 0; j < pilot_walks; ++j) {
+      const auto u = [&](int dimension) { return sample(halton, scramble, dimension, std::uint64_t(j)); };
+      start_walk(scene, geometry, tracer, shader, brdf, settings, lights, pilot_walks, u, j, bounced, origins);
+    }
+    return 1.0 + double(bounced.size()) / pilot_walks;
+  }
+
+  /// Follows one particle from `origin` along `direction`, appending the VPLs it leaves.
+  template <class Tracer, class Shader, class Sample>
+  static void walk(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
+                   const StandardBrdf& brdf, const VplSettings& settings, glm::vec3 origin, glm::vec3 direction,
+                   glm::vec3 flux, const Sample& u, int walk_index, std::vector<Vpl>& vpls,
+                   std::vector<VplOrigin>& origins) {
+    // Alpha cut-outs (foliage) may stack; 16 layers bound the loop like the pipeline's.
+    constexpr int max_cutout_layers = 16;
+    // Ray start offset for particles leaving a light or surface, relative to the coordinates'
+    // magnitude (the same 1e-4 as BrdfSettings::ray_epsilon).
+    constexpr float relative_epsilon = 1e-4f;
+    constexpr int first_bounce_dimension = 5;
+    const vmask<1> one(true);
+    int layers = 0;
+    for (int bounce = 0; bounce < settings.max_bounces;) {
+      if (!(light_detail::largest_component(flux) > 0.0f) || !std::isfinite(light_detail::largest_component(flux))) return;
+      const float magnitude = std::max({std::abs(origin.x), std::abs(origin.y), std::abs(origin.z), 1.0f});
+      RayPacket<1> ray;
+      ray.set(vec3<1>(origin), vec3<1>(direction), vfloat<1>(relative_epsilon * magnitude),
+              vfloat<1>(std::numeric_limits<float>::infinity()), one);
+      HitPacket<1> hit;
+      hit.clear();
+      tracer.intersect(ray, hit, one);
+      if (hit.geomID[0] == invalid_id) return;
+      const SurfaceHit<1> surface = make_surface_hit(scene, geometry, ray, hit, one);
+      const BrdfParameters<1> parameters = shader.shade(surface, one);
+      if (!parameters.opaque[0]) {
+        if (++layers > max_cutout_layers) return;
+        origin = surface.position[0];
+        continue;
+      }
+      layers = 0;
+      const glm::vec3 albedo = glm::clamp(parameters.albedo[0], glm::vec3(0.0f), glm::vec3(1.0f));
+      const glm::vec3 position = surface.position[0];
+      const glm::vec3 geometric = surface.geometric_normal[0];
+      ++bounce;
+      if (light_detail::largest_component(albedo) > 0.0f) {
+        vpls.push_back({.position = position,
+                        .normal = geometric,
+                        .intensity = flux * albedo * std::numbers::inv_pi_v<float>,
+                        .kind = VplKind::surface});
+        origins.push_back({walk_index, bounce});
+      }
+      if (bounce >= settings.max_bounces) return;
+
+      SecondaryRays<1> reflection, refraction;
+      brdf.spawn(surface, parameters, reflection, refraction, one);
+      float q_diffuse = light_detail::largest_component(albedo);
+      float q_reflect = reflection.active[0] ? light_detail::largest_component(reflection.weight[0]) : 0.0f;
+      float q_refract = refraction.active[0] ? light_detail::largest_component(refraction.weight[0]) : 0.0f;
+      const float total = q_diffuse + q_reflect + q_refract;
+      if (total > 1.0f) {
+        q_diffuse /= total;
+        q_reflect /= total;
+        q_refract /= total;
+      }
+      const int dimension = first_bounce_dimension + 3 * (bounce - 1);
+      const float choice = u(dimension);
+      if (choice < q_diffuse) {
+        flux *= albedo / q_diffuse;
+        glm::vec3 n = parameters.normal[0];
+        if (!(glm::dot(n, geometric) > 0.0f)) n = geometric;
+        direction = sample_cosine_hemisphere(n, u(dimension + 1), u(dimension + 2));
+        // A bumped normal can send the sample under the surface; mirror it back above.
+        const float below = glm::dot(direction, geometric);
+        if (below <= 0.0f) direction = glm::normalize(direction - 2.0f * below * geometric);
+        origin = position;
+      } else if (choice < q_diffuse + q_reflect) {
+        flux *= reflection.weight[0] / q_reflect;
+        direction = reflection.direction[0];
+        origin = reflection.origin[0];
+      } else if (choice < q_diffuse + q_reflect + q_refract) {
+        flux *= refraction.weight[0] / q_refract;
+        direction = refraction.direction[0];
+        origin = refraction.origin[0];
+      } else {
+        return;
+      }
+    }
+  }
+
+  std::vector<Emitter> user_emitters_;
+};
+
+}  // namespace igi

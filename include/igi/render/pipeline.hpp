@@ -1,0 +1,346 @@
+#pragma once
+/// \file
+/// The streaming IGI pipeline: one tile, breadth first, as in Benthin, Wald and Slusallek 2003.
+/// For each interleaving set s and anti-aliasing sub-sample k:
+///   1. primary rays of all pixels of set s in the tile (plus the filter's border), in packets of
+///      W sub-grid neighbours (Figure 2 of the paper);
+///   2. all of them traced, hits kept as structure-of-arrays streams;
+///   3. the surface shader turns every hit into BRDF parameters (alpha cut-outs re-traced);
+///   4. for each VPL of the set's k-th subset, for each packet: a coherent shadow packet, one
+///      occlusion query, and the BRDF shader's masked contribution;
+///   5. mirror and glass rays spawned by the BRDF shader run steps 2-4 again, level by level;
+///   6. the G-buffer receives irradiance, glossy radiance, albedo, normal, depth and the rest.
+/// Then the filter reconstructs irradiance, radiance is composed, luminance statistics recorded,
+/// and pixels tone mapped with the previous frame's parameters.
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "igi/backends/backend.hpp"
+#include "igi/filters/filter.hpp"
+#include "igi/lighting/vpl_sampler.hpp"
+#include "igi/render/interleaving.hpp"
+#include "igi/render/settings.hpp"
+#include "igi/render/tone_mapping.hpp"
+#include "igi/scene/camera.hpp"
+#include "igi/shading/brdf_shader.hpp"
+#include "igi/shading/surface_hit_builder.hpp"
+#include "igi/shading/surface_shader.hpp"
+
+namespace igi {
+
+/// What every tile of one frame shares.
+struct FrameContext {
+  const Scene* scene = nullptr;       ///< The scene as of this frame.
+  const PinholeProjection* projection = nullptr;  ///< Primary-ray generator.
+  const VplSets* vpls = nullptr;      ///< This frame's VPL sets (S^2 of them).
+  RenderSettings settings;            ///< Resolution, S, M, N, ...
+  float clamp_distance = 0.0f;        ///< Resolved minimum VPL distance.
+  float ray_epsilon = 1e-4f;          ///< Offset of secondary and shadow ray origins off surfaces.
+  ToneMapping tone_mapping;           ///< Parameters from the previous frame.
+};
+
+/// Rays a tile traced, by kind.
+struct RayCounts {
+  std::uint64_t primary = 0;    ///< Camera rays, alpha cut-out continuations included.
+  std::uint64_t shadow = 0;     ///< Occlusion rays towards VPLs.
+  std::uint64_t secondary = 0;  ///< Mirror and glass rays.
+  /// Adds another tile's counts.
+  void merge(const RayCounts& o) noexcept {
+    primary += o.primary;
+    shadow += o.shadow;
+    secondary += o.secondary;
+  }
+  /// All rays.
+  std::uint64_t total() const noexcept { return primary + shadow + secondary; }
+};
+
+/// A finished tile: its interior pixels and statistics.
+struct TileResult {
+  PixelRect rect;                     ///< Where the pixels go in the image.
+  std::vector<glm::vec3> hdr;         ///< Linear radiance, row-major over rect.
+  std::vector<glm::u8vec3> rgb8;      ///< Tone-mapped sRGB, row-major over rect.
+  LuminanceStatistics luminance;      ///< For the next frame's tone mapping.
+  RayCounts rays;                     ///< Work done.
+};
+
+/// The streaming pipeline over a Backend and the four policies. Stateless between tiles: all
+/// per-tile memory lives in a Workspace, one per thread.
+template <class B, class Surface, class Brdf, class Sampler, class F>
+  requires Backend<B> && SurfaceShader<Surface, B::width> && BrdfShader<Brdf, B::width> &&
+           VplSampler<Sampler, B> && Filter<F>
+class Pipeline {
+ public:
+  /// Packet width.
+  static constexpr int W = B::width;
+
+  /// One packet of a ray stream and everything the stages compute for it.
+  struct StreamPacket {
+    RayPacket<W> rays;              ///< The rays.
+    HitPacket<W> hits;              ///< Their hits.
+    vmask<W> active;                ///< Lanes carrying a ray.
+    vmask<W> hit;                   ///< Lanes whose ray hit something.
+    vec3<W> throughput;             ///< Weight of this path in its pixel (1 for primary rays).
+    int pixels = 0;                 ///< Index of the primary PixelPacket whose lanes these are.
+    SurfaceHit<W> surface;          ///< Hit points.
+    BrdfParameters<W> parameters;   ///< Surface shader output.
+    VplAccumulator<W> light;        ///< VPL light gathered.
+  };
+
+  /// Per-thread memory reused across tiles.
+  struct Workspace {
+    std::vector<PixelPacket<W>> pixels;                ///< Primary packets of the current set.
+    std::vector<std::vector<StreamPacket>> levels;     ///< Stream per bounce depth.
+    TileGBuffer gbuffer;                               ///< Tile + border.
+    FilteredTile filtered;                             ///< Filter output.
+  };
+
+  /// A pipeline over a built backend and the policies; all are borrowed, not copied.
+  Pipeline(const B& backend, const Surface& surface, const Brdf& brdf, const F& filter) noexcept
+      : backend_(&backend), surface_(&surface), brdf_(&brdf), filter_(&filter) {}
+
+  /// Renders `tile` of the frame into `out`.
+  void render_tile(const FrameContext& frame, const PixelRect& tile, Workspace& work, TileResult& out) const {
+    const RenderSettings& s = frame.settings;
+    const int border = filter_border(s.interleave);
+    const PixelRect extended{tile.x0 - border, tile.y0 - border, tile.x1 + border, tile.y1 + border};
+    // Only pixels inside the image are rendered; outside ones stay "no hit" and the filter skips them.
+    const PixelRect rendered{std::max(extended.x0, 0), std::max(extended.y0, 0), std::min(extended.x1, s.width),
+                             std::min(extended.y1, s.height)};
+    work.gbuffer.resize(extended.width(), extended.height());
+    work.gbuffer.border = border;
+    out.rays = {};
+
+    const int sets = s.interleave * s.interleave;
+    const float subsample_share = 1.0f / float(s.antialiasing);
+    for (int set = 0; set < sets; ++set) {
+      make_set_packets<W>(rendered, s.interleave, set, work.pixels);
+      if (work.pixels.empty()) continue;
+      for (int k = 0; k < s.antialiasing; ++k) {
+        trace_primary(frame, k, work, out.rays);
+        shade_level(frame, set, k, work, 0, out.rays);
+        for (int depth = 0; depth < s.max_depth && !work.levels[depth].empty(); ++depth) {
+          spawn_level(frame, work, depth);
+          if (work.levels[depth + 1].empty()) break;
+          trace_level(work.levels[depth + 1], out.rays.secondary);
+          shade_level(frame, set, k, work, depth + 1, out.rays);
+        }
+        write_gbuffer(frame, extended, k, subsample_share, work);
+      }
+    }
+    compose(frame, tile, extended, work, out);
+  }
+
+ private:
+  /// Steps 1-2: primary rays of sub-sample k for every pixel packet of the set, traced.
+  void trace_primary(const FrameContext& frame, int k, Workspace& work, RayCounts& counts) const {
+    ensure_levels(work, frame.settings.max_depth + 1);
+    auto& level = work.levels[0];
+    level.resize(work.pixels.size());
+    float dx = 0.5f, dy = 0.5f;
+    subsample_offset(k, frame.settings.antialiasing, dx, dy);
+    const glm::vec3 eye = frame.projection->origin();
+    for (std::size_t p = 0; p < work.pixels.size(); ++p) {
+      const PixelPacket<W>& pixels = work.pixels[p];
+      StreamPacket& packet = level[p];
+      packet.pixels = int(p);
+      packet.active = vmask<W>::first(pixels.count);
+      const vfloat<W> px([&](int i) { return i < pixels.count ? float(pixels.x[i]) + dx : 0.0f; });
+      const vfloat<W> py([&](int i) { return i < pixels.count ? float(pixels.y[i]) + dy : 0.0f; });
+      const vec3<W> direction = keep(frame.projection->direction(px, py), packet.active);
+      packet.rays.set(vec3<W>(eye), direction, vfloat<W>(0.0f), vfloat<W>(std::numeric_limits<float>::infinity()),
+                      packet.active);
+      packet.throughput = vec3<W>(glm::vec3(1.0f));
+    }
+    trace_level(level, counts.primary);
+  }
+
+  /// Step 2 for a whole stream.
+  void trace_level(std::vector<StreamPacket>& level, std::uint64_t& count) const {
+    for (StreamPacket& packet : level) {
+      packet.hits.clear();
+      backend_->intersect(packet.rays, packet.hits, packet.active);
+      count += std::uint64_t(popcount(packet.active));
+    }
+  }
+
+  /// Steps 3-4 for the stream at `depth`: surface shading (with alpha cut-outs), then each VPL
+  /// of sub-sample k's subset of set `set` against every packet.
+  void shade_level(const FrameContext& frame, int set, int k, Workspace& work, int depth, RayCounts& counts) const {
+    auto& level = work.levels[depth];
+    for (StreamPacket& packet : level) {
+      shade_surface(frame, packet, depth == 0 ? counts.primary : counts.secondary);
+      packet.light = {};
+    }
+    const std::vector<Vpl>& vpls = frame.vpls->sets[std::size_t(set)];
+    const int subsets = frame.settings.antialiasing;
+    // Each subset alone estimates the full light, so a sub-sample's subset is weighted by N.
+    const float subset_weight = float(subsets);
+    for (std::size_t j = std::size_t(k); j < vpls.size(); j += std::size_t(subsets)) {
+      const Vpl& vpl = vpls[j];
+      const glm::vec3 intensity = vpl.intensity * subset_weight;
+      for (StreamPacket& packet : level) {
+        if (none(packet.hit)) continue;
+        const VplGeometry<W> geometry =
+            connect(vpl, packet.surface.position, packet.surface.geometric_normal, frame.clamp_distance, packet.hit);
+        if (none(geometry.reaches)) continue;
+        RayPacket<W> shadow;
+        const vec3<W> origin = packet.surface.position + packet.surface.geometric_normal * vfloat<W>(frame.ray_epsilon);
+        // The shadow ray stops short of the VPL by the offset so it does not hit the VPL's own surface.
+        const vfloat<W> length = max(geometry.distance - vfloat<W>(2.0f * frame.ray_epsilon), vfloat<W>(0.0f));
+        shadow.set(origin, geometry.wi, vfloat<W>(0.0f), length, geometry.reaches);
+        const vmask<W> occluded = backend_->occluded(shadow, geometry.reaches);
+        counts.shadow += std::uint64_t(popcount(geometry.reaches));
+        brdf_->add_vpl(packet.surface, packet.parameters, geometry, intensity, packet.light, geometry.reaches & !occluded);
+      }
+    }
+  }
+
+  /// Step 3 for one packet: hit points, BRDF parameters, and rays continued through alpha cut-outs.
+  void shade_surface(const FrameContext& frame, StreamPacket& packet, std::uint64_t& count) const {
+    // Sponza's foliage stacks a few cut-out layers; 16 is far more than any pixel needs and bounds the loop.
+    constexpr int max_cutout_layers = 16;
+    packet.hit = packet.active & packet.hits.valid();
+    packet.surface = make_surface_hit(*frame.scene, packet.rays, packet.hits, packet.hit);
+    packet.parameters = surface_->shade(packet.surface, packet.hit);
+    for (int layer = 0; layer < max_cutout_layers; ++layer) {
+      const vmask<W> pass = packet.hit & !packet.parameters.opaque;
+      if (none(pass)) break;
+      // Continue the passing lanes from just behind the cut-out surface.
+      const vfloat<W> t = packet.rays.far();
+      select(pass, t + vfloat<W>(frame.ray_epsilon), packet.rays.near()).store(packet.rays.tnear);
+      select(pass, vfloat<W>(std::numeric_limits<float>::infinity()), t).store(packet.rays.tfar);
+      for (int i = 0; i < W; ++i)
+        if (pass[i]) packet.hits.geomID[i] = packet.hits.instID[i] = packet.hits.primID[i] = invalid_id;
+      backend_->intersect(packet.rays, packet.hits, pass);
+      count += std::uint64_t(popcount(pass));
+      const vmask<W> again = pass & packet.hits.valid();
+      packet.hit = (packet.hit & !pass) | again;
+      const SurfaceHit<W> surface = make_surface_hit(*frame.scene, packet.rays, packet.hits, again);
+      const BrdfParameters<W> parameters = surface_->shade(surface, again);
+      assign(packet.surface, surface, again);
+      assign(packet.parameters, parameters, again);
+      if (layer + 1 == max_cutout_layers) packet.hit &= packet.parameters.opaque;  // give up: treat as opaque miss
+    }
+  }
+
+  /// Step 5: the BRDF shader's reflection and refraction rays of level `depth` become level depth+1.
+  void spawn_level(const FrameContext&, Workspace& work, int depth) const {
+    auto& next = work.levels[std::size_t(depth) + 1];
+    next.clear();
+    for (StreamPacket& packet : work.levels[std::size_t(depth)]) {
+      if (none(packet.hit)) continue;
+      SecondaryRays<W> reflection, refraction;
+      if (none(brdf_->spawn(packet.surface, packet.parameters, reflection, refraction, packet.hit))) continue;
+      for (const SecondaryRays<W>* rays : {&reflection, &refraction}) {
+        if (none(rays->active)) continue;
+        StreamPacket& child = next.emplace_back();
+        child.pixels = packet.pixels;
+        child.active = rays->active;
+        child.throughput = keep(packet.throughput * rays->weight, rays->active);
+        child.rays.set(rays->origin, rays->direction, vfloat<W>(0.0f),
+                       vfloat<W>(std::numeric_limits<float>::infinity()), rays->active);
+      }
+    }
+  }
+
+  /// Step 6: sub-sample k's results into the G-buffer (first-hit normal and depth from sub-sample 0).
+  void write_gbuffer(const FrameContext&, const PixelRect& extended, int k, float share, Workspace& work) const {
+    TileGBuffer& g = work.gbuffer;
+    for (std::size_t level = 0; level < work.levels.size(); ++level) {
+      for (const StreamPacket& packet : work.levels[level]) {
+        const PixelPacket<W>& pixels = work.pixels[std::size_t(packet.pixels)];
+        // Radiance not filtered: emission, plus for deeper levels everything they gathered.
+        vec3<W> rest = packet.parameters.emission;
+        if (level > 0)
+          rest += packet.parameters.albedo * packet.light.irradiance * vfloat<W>(1.0f / 3.14159265358979f) +
+                  packet.light.glossy;
+        rest = keep(packet.throughput * rest, packet.hit);
+        for (int i = 0; i < pixels.count; ++i) {
+          if (!packet.active[i]) continue;
+          const std::size_t at = g.index(pixels.x[i] - extended.x0, pixels.y[i] - extended.y0);
+          g.radiance[at] += rest[i] * share;
+          if (level > 0) continue;
+          g.irradiance[at] += packet.light.irradiance[i] * share;
+          g.glossy[at] += packet.light.glossy[i] * share;
+          g.albedo[at] += packet.parameters.albedo[i] * share;
+          if (k == 0 && packet.hit[i]) {
+            g.hit[at] = 1;
+            g.normal[at] = packet.parameters.normal[i];
+            g.depth[at] = packet.surface.distance[i];
+          }
+        }
+      }
+    }
+  }
+
+  /// After all sets: filter, compose, record statistics, tone map.
+  void compose(const FrameContext& frame, const PixelRect& tile, const PixelRect& extended, Workspace& work,
+               TileResult& out) const {
+    filter_->apply(work.gbuffer, frame.settings.interleave, work.filtered);
+    const TileGBuffer& g = work.gbuffer;
+    out.rect = tile;
+    const std::size_t n = std::size_t(tile.width()) * std::size_t(tile.height());
+    out.hdr.resize(n);
+    out.rgb8.resize(n);
+    out.luminance = {};
+    const int border = tile.x0 - extended.x0;
+    for (int y = 0; y < tile.height(); ++y)
+      for (int x = 0; x < tile.width(); ++x) {
+        const std::size_t at = g.index(x + border, y + border);
+        const std::size_t inner = std::size_t(y) * std::size_t(tile.width()) + std::size_t(x);
+        glm::vec3 radiance = g.radiance[at];
+        if (g.hit[at])
+          radiance += g.albedo[at] * work.filtered.irradiance[inner] * (1.0f / 3.14159265358979f) +
+                      work.filtered.glossy[inner];
+        out.hdr[inner] = radiance;
+        out.luminance.add(radiance);
+        out.rgb8[inner] = quantize_srgb(frame.tone_mapping.apply(radiance));
+      }
+  }
+
+  /// Makes sure the stream vector has a level per depth.
+  static void ensure_levels(Workspace& work, int levels) {
+    if (int(work.levels.size()) < levels) work.levels.resize(std::size_t(levels));
+    for (auto& level : work.levels) level.clear();
+  }
+
+  /// Masked assignment of every field of a SurfaceHit.
+  static void assign(SurfaceHit<W>& to, const SurfaceHit<W>& from, const vmask<W>& mask) noexcept {
+    to.position.assign(from.position, mask);
+    to.geometric_normal.assign(from.geometric_normal, mask);
+    to.shading_normal.assign(from.shading_normal, mask);
+    to.wo.assign(from.wo, mask);
+    to.u.assign(from.u, mask);
+    to.v.assign(from.v, mask);
+    to.distance.assign(from.distance, mask);
+    to.material.assign(from.material, mask);
+    to.mesh.assign(from.mesh, mask);
+    to.instance.assign(from.instance, mask);
+    to.triangle.assign(from.triangle, mask);
+    to.front_face = (to.front_face & !mask) | (from.front_face & mask);
+  }
+  /// Masked assignment of every field of BrdfParameters.
+  static void assign(BrdfParameters<W>& to, const BrdfParameters<W>& from, const vmask<W>& mask) noexcept {
+    to.albedo.assign(from.albedo, mask);
+    to.glossy.assign(from.glossy, mask);
+    to.shininess.assign(from.shininess, mask);
+    to.mirror.assign(from.mirror, mask);
+    to.transmission.assign(from.transmission, mask);
+    to.ior.assign(from.ior, mask);
+    to.normal.assign(from.normal, mask);
+    to.emission.assign(from.emission, mask);
+    to.opaque = (to.opaque & !mask) | (from.opaque & mask);
+  }
+
+  const B* backend_;
+  const Surface* surface_;
+  const Brdf* brdf_;
+  const F* filter_;
+};
+
+}  // namespace igi

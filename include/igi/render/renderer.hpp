@@ -1,0 +1,207 @@
+#pragma once
+/// \file
+/// The frame loop: VPLs for the frame, tiles from a demand-driven queue on oneTBB threads, the
+/// pipeline per tile, statistics combined into the next frame's tone mapping, and scene changes
+/// (instances, vertices, lights, camera) between frames.
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include "igi/render/pipeline.hpp"
+
+namespace igi {
+
+/// Timings and counts of one frame.
+struct FrameStatistics {
+  double milliseconds = 0.0;      ///< Whole frame, VPL generation included.
+  double vpl_milliseconds = 0.0;  ///< VPL generation alone.
+  RayCounts rays;                 ///< Rays traced.
+  int tiles = 0;                  ///< Tiles rendered.
+  int vpls = 0;                   ///< VPLs in all sets.
+  LuminanceStatistics luminance;  ///< Combined tile statistics.
+  /// Million rays per second over the whole frame time.
+  double mrays_per_second() const noexcept {
+    return milliseconds > 0.0 ? double(rays.total()) / (milliseconds * 1e3) : 0.0;
+  }
+};
+
+/// One rendered frame.
+struct Frame {
+  int width = 0;                    ///< Pixels per row.
+  int height = 0;                   ///< Rows.
+  std::uint32_t index = 0;          ///< Frame index it was rendered with.
+  Image hdr;                        ///< Linear radiance.
+  Rgb8Image rgb8;                   ///< Tone-mapped sRGB.
+  FrameStatistics statistics;       ///< What it cost.
+};
+
+/// Renders frames of a scene with the IGI pipeline. The scene and policies are borrowed and must
+/// outlive the renderer; the backend is built and owned here. Change the scene only through the
+/// renderer's methods (so the backend follows) and only between frames.
+template <class B, class Surface, class Brdf, class Sampler, class F>
+class Renderer {
+ public:
+  /// The pipeline type this renderer runs.
+  using PipelineType = Pipeline<B, Surface, Brdf, Sampler, F>;
+
+  /// Builds the backend for `scene`; throws SettingsError for unusable settings.
+  Renderer(Scene& scene, const RenderSettings& settings, const Surface& surface, const Brdf& brdf,
+           const Sampler& sampler, const F& filter)
+      : scene_(&scene),
+        settings_((validate(settings), settings)),
+        backend_(std::make_unique<B>(scene)),
+        sampler_(&sampler),
+        pipeline_(*backend_, surface, brdf, filter),
+        arena_(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic) {}
+
+  /// Renders frame `index` as seen by `camera`. The HDR image depends only on scene, camera,
+  /// settings and index; the RGB8 image is tone mapped with the previous frame's statistics (the
+  /// first frame, having none, is mapped with its own).
+  Frame render(const Camera& camera, std::uint32_t index) {
+    using clock = std::chrono::steady_clock;
+    const auto start = clock::now();
+    if (dirty_) {
+      backend_->commit();
+      dirty_ = false;
+    }
+    Frame frame;
+    frame.width = settings_.width;
+    frame.height = settings_.height;
+    frame.index = index;
+    frame.hdr = Image(frame.width, frame.height);
+    frame.rgb8 = Rgb8Image(frame.width, frame.height);
+
+    VplSettings vpl_settings;
+    vpl_settings.sets = settings_.interleave * settings_.interleave;
+    vpl_settings.vpls_per_set = settings_.vpls_per_pixel;
+    vpl_settings.frame = index;
+    vpl_settings.seed = settings_.seed;
+    vpl_settings.max_bounces = settings_.max_bounces;
+    const VplSets vpls = sampler_->generate(*scene_, *backend_, vpl_settings);
+    const auto vpls_done = clock::now();
+
+    FrameContext context;
+    context.scene = scene_;
+    const PinholeProjection projection(camera, settings_.width, settings_.height);
+    context.projection = &projection;
+    context.vpls = &vpls;
+    context.settings = settings_;
+    const Bounds bounds = scene_->bounds();
+    const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
+    context.clamp_distance = resolve_clamp(settings_, diagonal);
+    // Ray offsets scale with the scene: 1e-5 of its diagonal plus of its distance from the origin
+    // stays above float rounding of positions (about 6e-8 relative) yet far below any feature size.
+    const float reach = bounds.empty() ? 1.0f : std::max(glm::length(bounds.lower), glm::length(bounds.upper));
+    context.ray_epsilon = 1e-5f * (diagonal + reach);
+    context.tone_mapping = tone_mapping_ ? *tone_mapping_ : ToneMapping{};
+
+    const std::vector<PixelRect> tiles = make_tiles(settings_.width, settings_.height, settings_.tile_size);
+    std::mutex merge_mutex;
+    FrameStatistics& stats = frame.statistics;
+    arena_.execute([&] {
+      // grainsize 1 + simple_partitioner: each idle thread takes the next single tile (demand driven).
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
+          [&](const tbb::blocked_range<std::size_t>& range) {
+            auto& work = workspaces_.local();
+            for (std::size_t t = range.begin(); t != range.end(); ++t) {
+              TileResult& result = work.result;
+              pipeline_.render_tile(context, tiles[t], work.pipeline, result);
+              place(result, frame);  // tiles are disjoint: no lock needed
+              std::lock_guard lock(merge_mutex);
+              stats.rays.merge(result.rays);
+              stats.luminance.merge(result.luminance);
+            }
+          },
+          tbb::simple_partitioner());
+    });
+    const ToneMapping next = ToneMapping::from(stats.luminance);
+    if (!tone_mapping_) {
+      for (int y = 0; y < frame.height; ++y)
+        for (int x = 0; x < frame.width; ++x) store(frame.rgb8, x, y, quantize_srgb(next.apply(frame.hdr(x, y))));
+    }
+    tone_mapping_ = next;
+    stats.tiles = int(tiles.size());
+    stats.vpls = 0;
+    for (const auto& set : vpls.sets) stats.vpls += int(set.size());
+    const auto end = clock::now();
+    stats.milliseconds = std::chrono::duration<double, std::milli>(end - start).count();
+    stats.vpl_milliseconds = std::chrono::duration<double, std::milli>(vpls_done - start).count();
+    return frame;
+  }
+
+  /// Moves instance `instance` (takes effect at the next frame).
+  void set_instance_transform(int instance, const glm::mat4& transform) {
+    scene_->instances.at(std::size_t(instance)).transform = transform;
+    backend_->set_instance_transform(instance, transform);
+    dirty_ = true;
+  }
+  /// Replaces the vertex positions of mesh `mesh` (same count; takes effect at the next frame).
+  void set_mesh_positions(int mesh, std::span<const glm::vec3> positions) {
+    Mesh& m = scene_->meshes.at(std::size_t(mesh));
+    if (positions.size() != m.positions.size())
+      throw SettingsError("mesh " + std::to_string(mesh) + " has " + std::to_string(m.positions.size()) +
+                          " vertices, not " + std::to_string(positions.size()));
+    m.positions.assign(positions.begin(), positions.end());
+    backend_->set_mesh_positions(mesh, positions);
+    dirty_ = true;
+  }
+  /// Replaces punctual light `light` (lights are read afresh every frame).
+  void set_light(int light, const PunctualLight& value) { scene_->lights.at(std::size_t(light)) = value; }
+  /// Forgets the tone-mapping history, as after a cut.
+  void reset_tone_mapping() noexcept { tone_mapping_.reset(); }
+
+  /// The scene being rendered.
+  const Scene& scene() const noexcept { return *scene_; }
+  /// The backend (for statistics).
+  const B& backend() const noexcept { return *backend_; }
+  /// The settings.
+  const RenderSettings& settings() const noexcept { return settings_; }
+
+ private:
+  /// Copies a tile's pixels into the frame.
+  static void place(const TileResult& tile, Frame& frame) {
+    std::size_t from = 0;
+    for (int y = tile.rect.y0; y < tile.rect.y1; ++y)
+      for (int x = tile.rect.x0; x < tile.rect.x1; ++x, ++from) {
+        frame.hdr(x, y) = tile.hdr[from];
+        store(frame.rgb8, x, y, tile.rgb8[from]);
+      }
+  }
+  /// Writes one 8-bit pixel.
+  static void store(Rgb8Image& image, int x, int y, const glm::u8vec3& rgb) noexcept {
+    std::uint8_t* p = image.pixel(x, y);
+    p[0] = rgb.r;
+    p[1] = rgb.g;
+    p[2] = rgb.b;
+  }
+
+  /// What one thread keeps between tiles.
+  struct ThreadWork {
+    typename PipelineType::Workspace pipeline;  ///< Streams and G-buffer.
+    TileResult result;                          ///< The tile being finished.
+  };
+
+  Scene* scene_;
+  RenderSettings settings_;
+  std::unique_ptr<B> backend_;
+  const Sampler* sampler_;
+  PipelineType pipeline_;
+  tbb::task_arena arena_;
+  tbb::enumerable_thread_specific<ThreadWork> workspaces_;
+  std::optional<ToneMapping> tone_mapping_;
+  bool dirty_ = false;
+};
+
+}  // namespace igi

@@ -1,0 +1,73 @@
+#pragma once
+/// \file
+/// Settings of an IGI frame and their validation.
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace igi {
+
+/// A setting or argument that cannot be used; the message names it.
+class SettingsError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// Everything besides scene and camera that decides an IGI frame.
+struct RenderSettings {
+  int width = 640;                ///< Image width in pixels.
+  int height = 480;               ///< Image height in pixels.
+  int interleave = 3;             ///< S: the S x S interleaving pattern (S^2 VPL sets).
+  int vpls_per_pixel = 16;        ///< M: VPLs each pixel connects to (the size of one set).
+  int antialiasing = 1;           ///< N: primary rays per pixel; sub-sample k uses the k-th of N VPL subsets.
+  int tile_size = 40;             ///< Tile edge in pixels (the paper's 40 x 40).
+  float clamp_distance = -1.0f;   ///< Minimum VPL distance in the 1/d^2 term; < 0 means automatic (see resolve_clamp).
+  int max_depth = 6;              ///< Longest chain of mirror/glass bounces.
+  int max_bounces = 8;            ///< Longest light random walk of the VPL sampler.
+  std::uint32_t seed = 0;         ///< Randomisation of the QMC sequences.
+  int threads = 0;                ///< Worker threads; 0 means all cores.
+};
+
+/// Largest image edge accepted: 16384 keeps a frame's float buffers under 4 GiB.
+inline constexpr int max_image_edge = 16384;
+/// Largest VPL set: 4096 VPLs per pixel is far past convergence and bounds per-frame VPL memory.
+inline constexpr int max_vpls_per_pixel = 4096;
+/// Largest interleaving pattern: beyond 8 x 8 the filter window would blur whole objects.
+inline constexpr int max_interleave = 8;
+/// Largest anti-aliasing factor: 64 sub-samples per pixel is past any visible gain.
+inline constexpr int max_antialiasing = 64;
+
+/// Throws SettingsError naming the first setting out of range.
+inline void validate(const RenderSettings& s) {
+  auto require = [](bool ok, const std::string& message) {
+    if (!ok) throw SettingsError(message);
+  };
+  require(s.width >= 1 && s.width <= max_image_edge && s.height >= 1 && s.height <= max_image_edge,
+          "size " + std::to_string(s.width) + "x" + std::to_string(s.height) + " is outside 1.." +
+              std::to_string(max_image_edge) + " per side");
+  require(s.interleave >= 1 && s.interleave <= max_interleave,
+          "interleave " + std::to_string(s.interleave) + " is outside 1.." + std::to_string(max_interleave));
+  require(s.vpls_per_pixel >= 1 && s.vpls_per_pixel <= max_vpls_per_pixel,
+          "vpls " + std::to_string(s.vpls_per_pixel) + " is outside 1.." + std::to_string(max_vpls_per_pixel));
+  require(s.antialiasing >= 1 && s.antialiasing <= max_antialiasing,
+          "aa " + std::to_string(s.antialiasing) + " is outside 1.." + std::to_string(max_antialiasing));
+  require(s.antialiasing <= s.vpls_per_pixel,
+          "aa " + std::to_string(s.antialiasing) + " exceeds vpls " + std::to_string(s.vpls_per_pixel) +
+              ": each sub-sample needs at least one VPL of its own");
+  require(s.tile_size >= 4 && s.tile_size <= 1024, "tile size " + std::to_string(s.tile_size) + " is outside 4..1024");
+  require(!(s.clamp_distance != s.clamp_distance), "clamp distance is NaN");
+  require(s.max_depth >= 0 && s.max_depth <= 64, "max depth " + std::to_string(s.max_depth) + " is outside 0..64");
+  require(s.max_bounces >= 0 && s.max_bounces <= 64, "max bounces " + std::to_string(s.max_bounces) + " is outside 0..64");
+  require(s.threads >= 0 && s.threads <= 1024, "threads " + std::to_string(s.threads) + " is outside 0..1024");
+}
+
+/// The clamp distance to use for a scene whose bounding-box diagonal is `scene_diagonal`: the
+/// setting itself if >= 0, else 2% of the diagonal. That bounds one VPL's irradiance to
+/// intensity/(0.02 d)^2 — bright enough to keep contact lighting in corners, small enough that
+/// no single VPL makes a visible spot at 16 VPLs per pixel in the Cornell box.
+inline float resolve_clamp(const RenderSettings& s, float scene_diagonal) noexcept {
+  return s.clamp_distance >= 0.0f ? s.clamp_distance : 0.02f * scene_diagonal;
+}
+
+}  // namespace igi

@@ -1,0 +1,175 @@
+#pragma once
+/// \file
+/// Checks on scenes, shared by the glTF loader and by scenes built in code: non-finite values and
+/// broken cross references are errors naming the mesh (and vertex, triangle or index); zero-area
+/// triangles are recoverable, so they are dropped and counted in a warning.
+
+#include <cmath>
+#include <cstddef>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/constants.hpp>
+
+#include "igi/scene/error.hpp"
+#include "igi/scene/scene.hpp"
+
+namespace igi {
+
+namespace detail {
+
+/// Sends `message` to `warnings` when given, else to stderr as one line.
+inline void report_warning(std::vector<std::string>* warnings, std::string message) {
+  if (warnings != nullptr) {
+    warnings->push_back(std::move(message));
+  } else {
+    std::cerr << "igi warning: " << message << '\n';
+  }
+}
+
+/// "where: problem", or just the problem when `where` is empty.
+inline std::string located(std::string_view where, const std::string& problem) {
+  return where.empty() ? problem : std::string(where) + ": " + problem;
+}
+
+/// "(x, y, z)" for messages.
+inline std::string to_text(const glm::vec3& v) {
+  std::ostringstream out;
+  out << '(' << v.x << ", " << v.y << ", " << v.z << ')';
+  return out.str();
+}
+
+/// True if all components are finite.
+inline bool finite(const glm::vec3& v) noexcept { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+/// True if all 16 entries are finite.
+inline bool finite(const glm::mat4& m) noexcept {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  return true;
+}
+
+}  // namespace detail
+
+/// True if the triangle spans no area: its edge cross product, computed in double from the stored floats, is exactly zero.
+inline bool zero_area(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) noexcept {
+  // Double precision makes the test exact for float inputs up to the product's rounding, so only
+  // truly collinear or coincident vertices count; thin but real slivers are kept.
+  const glm::dvec3 normal = glm::cross(glm::dvec3(b) - glm::dvec3(a), glm::dvec3(c) - glm::dvec3(a));
+  return normal.x == 0.0 && normal.y == 0.0 && normal.z == 0.0;
+}
+
+/// Throws SceneError naming the mesh and vertex if a position is NaN or infinite; `where` prefixes the message.
+inline void check_positions_finite(const Mesh& mesh, std::string_view where = {}) {
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+    if (!detail::finite(mesh.positions[v]))
+      throw SceneError(detail::located(where, "mesh '" + mesh.name + "' vertex " + std::to_string(v) +
+                                                  " has a non-finite position " + detail::to_text(mesh.positions[v])));
+}
+
+/// Throws SceneError if the mesh's arrays disagree, a triangle indexes past the vertices, or a normal or uv is not finite.
+inline void check_mesh(const Mesh& mesh, std::string_view where = {}) {
+  const std::string name = "mesh '" + mesh.name + "'";
+  const std::size_t vertex_count = mesh.positions.size();
+  if (!mesh.normals.empty() && mesh.normals.size() != vertex_count)
+    throw SceneError(detail::located(where, name + " has " + std::to_string(mesh.normals.size()) + " normals for " +
+                                                std::to_string(vertex_count) + " vertices"));
+  if (!mesh.uvs.empty() && mesh.uvs.size() != vertex_count)
+    throw SceneError(detail::located(where, name + " has " + std::to_string(mesh.uvs.size()) + " uvs for " +
+                                                std::to_string(vertex_count) + " vertices"));
+  if (!mesh.uvs1.empty() && mesh.uvs1.size() != vertex_count)
+    throw SceneError(detail::located(where, name + " has " + std::to_string(mesh.uvs1.size()) +
+                                                " TEXCOORD_1 uvs for " + std::to_string(vertex_count) + " vertices"));
+  check_positions_finite(mesh, where);
+  for (std::size_t v = 0; v < mesh.normals.size(); ++v)
+    if (!detail::finite(mesh.normals[v]))
+      throw SceneError(detail::located(where, name + " vertex " + std::to_string(v) + " has a non-finite normal " +
+                                                  detail::to_text(mesh.normals[v])));
+  for (std::size_t v = 0; v < mesh.uvs.size(); ++v)
+    if (!std::isfinite(mesh.uvs[v].x) || !std::isfinite(mesh.uvs[v].y))
+      throw SceneError(detail::located(where, name + " vertex " + std::to_string(v) + " has a non-finite uv"));
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int corner = 0; corner < 3; ++corner)
+      if (mesh.triangles[t][corner] >= vertex_count)
+        throw SceneError(detail::located(
+            where, name + " triangle " + std::to_string(t) + " uses vertex " + std::to_string(mesh.triangles[t][corner]) +
+                       " but the mesh has " + std::to_string(vertex_count) + " vertices"));
+}
+
+/// Removes the zero-area triangles of `mesh` (see zero_area) and returns how many it removed.
+inline std::size_t drop_zero_area_triangles(Mesh& mesh) {
+  std::size_t kept = 0;
+  for (const glm::uvec3& triangle : mesh.triangles)
+    if (!zero_area(mesh.positions[triangle.x], mesh.positions[triangle.y], mesh.positions[triangle.z]))
+      mesh.triangles[kept++] = triangle;
+  const std::size_t dropped = mesh.triangles.size() - kept;
+  mesh.triangles.resize(kept);
+  return dropped;
+}
+
+/// Checks `mesh` (check_mesh) and drops its zero-area triangles with one warning giving their count.
+inline void validate_mesh(Mesh& mesh, std::vector<std::string>* warnings = nullptr, std::string_view where = {}) {
+  check_mesh(mesh, where);
+  if (const std::size_t dropped = drop_zero_area_triangles(mesh); dropped > 0)
+    detail::report_warning(warnings, detail::located(where, "mesh '" + mesh.name + "': dropped " +
+                                                                std::to_string(dropped) + " zero-area triangle" +
+                                                                (dropped == 1 ? "" : "s")));
+}
+
+/// Checks a whole scene (meshes, references between its parts, finite transforms, lights and cameras) and drops zero-area triangles with a warning.
+inline void validate_scene(Scene& scene, std::vector<std::string>* warnings = nullptr, std::string_view where = {}) {
+  const std::string default_where = "scene '" + scene.name + "'";
+  if (where.empty()) where = default_where;
+  for (Mesh& mesh : scene.meshes) {
+    validate_mesh(mesh, warnings, where);
+    if (mesh.material < -1 || mesh.material >= int(scene.materials.size()))
+      throw SceneError(detail::located(where, "mesh '" + mesh.name + "' uses material " + std::to_string(mesh.material) +
+                                                  " but the scene has " + std::to_string(scene.materials.size())));
+  }
+  for (const Instance& instance : scene.instances) {
+    if (instance.mesh < 0 || instance.mesh >= int(scene.meshes.size()))
+      throw SceneError(detail::located(where, "instance '" + instance.name + "' uses mesh " + std::to_string(instance.mesh) +
+                                                  " but the scene has " + std::to_string(scene.meshes.size())));
+    if (!detail::finite(instance.transform))
+      throw SceneError(detail::located(where, "instance '" + instance.name + "' has a non-finite transform"));
+  }
+  for (const Material& material : scene.materials) {
+    for (const int texture : {material.base_color_texture, material.emissive_texture})
+      if (texture < -1 || texture >= int(scene.textures.size()))
+        throw SceneError(detail::located(where, "material '" + material.name + "' uses texture " + std::to_string(texture) +
+                                                    " but the scene has " + std::to_string(scene.textures.size())));
+    if (!std::isfinite(material.base_color.r) || !std::isfinite(material.base_color.g) ||
+        !std::isfinite(material.base_color.b) || !std::isfinite(material.base_color.a) ||
+        !detail::finite(material.emission) || !std::isfinite(material.metallic) || !std::isfinite(material.roughness) ||
+        !std::isfinite(material.transmission) || !std::isfinite(material.ior) || !std::isfinite(material.alpha_cutoff))
+      throw SceneError(detail::located(where, "material '" + material.name + "' has a non-finite parameter"));
+  }
+  for (const Texture& texture : scene.textures)
+    if (texture.width <= 0 || texture.height <= 0 ||
+        texture.texels.size() != std::size_t(texture.width) * std::size_t(texture.height) * 4)
+      throw SceneError(detail::located(where, "texture '" + texture.name + "' has " + std::to_string(texture.texels.size()) +
+                                                  " bytes for " + std::to_string(texture.width) + "x" +
+                                                  std::to_string(texture.height) + " RGBA8 texels"));
+  for (const PunctualLight& light : scene.lights) {
+    if (!detail::finite(light.color) || glm::any(glm::lessThan(light.color, glm::vec3(0.0f))) ||
+        !std::isfinite(light.intensity) || light.intensity < 0.0f || !detail::finite(light.position) ||
+        !detail::finite(light.direction) || !std::isfinite(light.range) || light.range < 0.0f)
+      throw SceneError(detail::located(where, "light '" + light.name + "' has a non-finite or negative parameter"));
+    if (light.kind == PunctualKind::spot &&
+        !(light.inner_cone >= 0.0f && light.inner_cone < light.outer_cone && light.outer_cone <= glm::half_pi<float>()))
+      throw SceneError(detail::located(where, "light '" + light.name +
+                                                  "' needs spot cone angles 0 <= inner < outer <= pi/2"));
+  }
+  for (const Camera& camera : scene.cameras)
+    if (!detail::finite(camera.camera_to_world) || !(camera.yfov > 0.0f && camera.yfov < glm::pi<float>()) ||
+        !(camera.aspect >= 0.0f) || !std::isfinite(camera.aspect) || !(camera.znear > 0.0f))
+      throw SceneError(detail::located(where, "camera '" + camera.name +
+                                                  "' needs a finite transform, 0 < yfov < pi, aspect >= 0 and znear > 0"));
+}
+
+}  // namespace igi

@@ -1,0 +1,369 @@
+#pragma once
+/// \file
+/// The BRDF shaders: Lambert, energy-normalised Phong, perfect mirror, dielectric glass, and
+/// `StandardBrdf`, which applies all of them lane by lane as the surface shader's parameters say
+/// (the renderer's default). All contributions are computed on packets under masks; inactive
+/// lanes, lanes the VPL does not reach and alpha cut-outs add nothing. No input (zero normals,
+/// grazing angles, zero-length vectors, odd ior) produces NaN or Inf.
+///
+/// Models, per lane, with n the shading normal and wo, wi unit directions:
+/// - diffuse: f = albedo / pi;
+/// - glossy (modified Phong, energy-normalised): f = glossy (s + 2) / (2 pi) max(0, r.wi)^s with
+///   r = 2 (n.wo) n - wo, so a white lobe reflects at most all energy at normal incidence;
+/// - mirror: a reflection ray with weight `mirror`;
+/// - glass: a dielectric interface with the exact unpolarised Fresnel reflectance
+///   F = (r_s^2 + r_p^2) / 2 (exact rather than Schlick: the few more multiplies are nothing
+///   next to a traced ray, and Schlick is poor for light leaving the denser medium near the
+///   critical angle); reflection weight transmission x F, refraction weight transmission x (1 - F),
+///   and all of it reflected under total internal reflection. The ray enters the medium on front
+///   faces (eta = 1 / ior) and leaves it on back faces (eta = ior).
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include <glm/glm.hpp>
+
+#include "igi/lighting/vpl.hpp"
+#include "igi/shading/brdf_shader.hpp"
+#include "igi/shading/surface_hit.hpp"
+
+namespace igi {
+
+/// Tunables shared by the BRDF shaders.
+struct BrdfSettings {
+  /// Offset of secondary-ray origins off the surface, relative to the hit's largest coordinate
+  /// (at least 1): 1e-4 is about 800 float ulps at any magnitude, far above the rounding of a
+  /// barycentric hit point and far below any feature of the scenes igi renders.
+  float ray_epsilon = 1e-4f;
+};
+
+namespace brdf_detail {
+
+/// 1/pi.
+inline constexpr float inverse_pi = 0.318309886183790671f;
+
+/// The unit normal shading uses: the surface shader's, or the geometric one where that is not
+/// a usable unit vector (zero, NaN) or faces away from wo.
+template <int W>
+vec3<W> shading_frame_normal(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters) noexcept {
+  const vfloat<W> length2 = length_squared(parameters.normal);
+  // A unit normal has length^2 = 1; anything far from it (zero, or NaN which fails every
+  // comparison) is replaced. 0.25 separates "zero or broken" from "unit up to rounding".
+  const vmask<W> usable = (length2 > vfloat<W>(0.25f)) & (dot(parameters.normal, hit.wo) > vfloat<W>(0.0f));
+  return select(usable, normalize(parameters.normal), hit.geometric_normal);
+}
+
+/// Mirror direction of `wo` about unit `n`.
+template <int W>
+vec3<W> reflect(const vec3<W>& wo, const vec3<W>& n) noexcept {
+  return n * (vfloat<W>(2.0f) * dot(n, wo)) - wo;
+}
+
+/// Secondary-ray origin: `position` moved by the relative epsilon along `side` (+/- geometric normal).
+template <int W>
+vec3<W> offset_origin(const vec3<W>& position, const vec3<W>& side, float ray_epsilon) noexcept {
+  const vfloat<W> magnitude = max(max(abs(position.x), abs(position.y)), max(abs(position.z), vfloat<W>(1.0f)));
+  return position + side * (magnitude * vfloat<W>(ray_epsilon));
+}
+
+/// Largest of the three components per lane.
+template <int W>
+vfloat<W> max_component(const vec3<W>& v) noexcept {
+  return max(max(v.x, v.y), v.z);
+}
+
+/// The diffuse part: irradiance += intensity x falloff x cos(theta_x).
+template <int W>
+void add_irradiance(const vec3<W>& n, const VplGeometry<W>& geometry, const glm::vec3& intensity,
+                    VplAccumulator<W>& accumulator, const vmask<W>& mask) noexcept {
+  const vfloat<W> cosine = max(dot(n, geometry.wi), vfloat<W>(0.0f));
+  accumulator.irradiance += keep(vec3<W>(intensity) * (geometry.falloff * cosine), mask);
+}
+
+/// x^s for x in [0, 1] and s >= 0 on packets, as exp2(s log2 x) with series for both (the
+/// library pow loops over scalars and costs 5x more). Relative error below 2e-6 x (1 + s |ln x|)
+/// down to 2^-64, zero below:
+/// the logarithm comes from atanh's series on a mantissa folded into [1/sqrt2, sqrt2), the
+/// exponential from e^z's Taylor series on z in [0, ln 2).
+template <int W>
+vfloat<W> pow_unit(const vfloat<W>& x, const vfloat<W>& s) noexcept {
+  const vfloat<W> one(1.0f);
+  // Smallest normal float: below it (and for x = 0) the result is 0 unless s = 0.
+  const vmask<W> positive = x >= vfloat<W>(0x1p-126f);
+  const vfloat<W> safe = select(positive, min(x, one), one);
+  const vuint<W> bits = bit_cast<std::uint32_t>(safe);
+  // Exponent and mantissa in [1, 2) from the IEEE 754 fields (8 exponent bits, bias 127, 23 mantissa bits).
+  vfloat<W> exponent = convert<float>(bit_cast<std::int32_t>(bits >> 23)) - vfloat<W>(127.0f);
+  vfloat<W> mantissa = bit_cast<float>((bits & vuint<W>(0x007fffffu)) | vuint<W>(0x3f800000u));
+  // Fold into [1/sqrt2, sqrt2) so that x near 1 has no cancellation between exponent and mantissa.
+  const vmask<W> high = mantissa > vfloat<W>(1.41421356f);
+  mantissa = select(high, mantissa * vfloat<W>(0.5f), mantissa);
+  exponent = select(high, exponent + one, exponent);
+  // ln m = 2 atanh(t), t = (m - 1) / (m + 1) in (-0.172, 0.172): terms to t^9 leave < 1e-9.
+  const vfloat<W> t = (mantissa - one) / (mantissa + one), t2 = t * t;
+  const vfloat<W> series =
+      one + t2 * (vfloat<W>(1.0f / 3.0f) + t2 * (vfloat<W>(1.0f / 5.0f) + t2 * (vfloat<W>(1.0f / 7.0f) + t2 * vfloat<W>(1.0f / 9.0f))));
+  const vfloat<W> ln2(0.693147181f);
+  const vfloat<W> log2_x = exponent + vfloat<W>(2.0f) * t * series / ln2;
+  // 2^y for y <= 0. Below 2^-64 (5e-20, invisible in any image) the result is flushed to 0:
+  // tiny lobe values would otherwise turn into denormals in the products that follow, and
+  // denormal arithmetic runs about 100 times slower.
+  const vfloat<W> raw_y = s * log2_x;
+  const vmask<W> vanishing = raw_y < vfloat<W>(-64.0f);
+  const vfloat<W> y = max(raw_y, vfloat<W>(-64.0f));
+  const vfloat<W> whole = floor(y);
+  const vfloat<W> z = (y - whole) * ln2;  // in [0, ln 2)
+  // e^z to z^7 / 7!: the next term is below 0.7^8 / 8! = 1.5e-6.
+  const vfloat<W> e_z =
+      one + z * (one + z * (vfloat<W>(1.0f / 2) + z * (vfloat<W>(1.0f / 6) + z * (vfloat<W>(1.0f / 24) +
+              z * (vfloat<W>(1.0f / 120) + z * (vfloat<W>(1.0f / 720) + z * vfloat<W>(1.0f / 5040))))))) ;
+  const vfloat<W> scale = bit_cast<float>((convert<std::int32_t>(whole) + vint<W>(127)) << 23);
+  const vfloat<W> result = e_z * scale;
+  return select(positive & !vanishing, result, select(s == vfloat<W>(0.0f), one, vfloat<W>(0.0f)));
+}
+
+/// The glossy lobe value f_glossy / glossy at `wi` (without the reflectance colour).
+template <int W>
+vfloat<W> phong_lobe(const vec3<W>& n, const vec3<W>& wo, const vfloat<W>& shininess, const vec3<W>& wi) noexcept {
+  const vfloat<W> s = max(select(isfinite(shininess), shininess, vfloat<W>(1.0f)), vfloat<W>(0.0f));
+  const vfloat<W> alignment = clamp(dot(reflect(wo, n), wi), vfloat<W>(0.0f), vfloat<W>(1.0f));
+  return (s + vfloat<W>(2.0f)) * vfloat<W>(0.5f * inverse_pi) * pow_unit(alignment, s);
+}
+
+/// The glossy part: glossy += intensity x falloff x cos(theta_x) x f_glossy.
+template <int W>
+void add_glossy(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const vec3<W>& n,
+                const VplGeometry<W>& geometry, const glm::vec3& intensity, VplAccumulator<W>& accumulator,
+                const vmask<W>& mask) noexcept {
+  const vmask<W> lanes = mask & (max_component(parameters.glossy) > vfloat<W>(0.0f));
+  if (none(lanes)) return;
+  const vfloat<W> cosine = max(dot(n, geometry.wi), vfloat<W>(0.0f));
+  const vfloat<W> scale = geometry.falloff * cosine * phong_lobe(n, hit.wo, parameters.shininess, geometry.wi);
+  accumulator.glossy += keep(vec3<W>(intensity) * parameters.glossy * scale, lanes);
+}
+
+/// f_r x cos(theta_i) of the diffuse and glossy parts.
+template <int W>
+vec3<W> evaluate_diffuse_glossy(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const vec3<W>& wi,
+                                bool with_glossy, const vmask<W>& mask) noexcept {
+  const vec3<W> n = shading_frame_normal(hit, parameters);
+  const vec3<W> unit_wi = normalize(wi);
+  const vfloat<W> cosine = dot(n, unit_wi);
+  // Light from below the geometric surface cannot reach a one-sided reflector.
+  const vmask<W> lanes = mask & parameters.opaque & (cosine > vfloat<W>(0.0f)) &
+                         (dot(hit.geometric_normal, unit_wi) > vfloat<W>(0.0f));
+  vec3<W> f = parameters.albedo * vfloat<W>(inverse_pi);
+  if (with_glossy) f += parameters.glossy * phong_lobe(n, hit.wo, parameters.shininess, unit_wi);
+  return keep(f * cosine, lanes);
+}
+
+/// Mirror reflection and dielectric refraction streams with weights
+/// reflection = mirror + transmission x F, refraction = transmission x (1 - F).
+template <int W>
+vmask<W> spawn_specular(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const vec3<W>& mirror,
+                        const vfloat<W>& transmission, float ray_epsilon, SecondaryRays<W>& reflection,
+                        SecondaryRays<W>& refraction, const vmask<W>& mask) noexcept {
+  reflection = {};
+  refraction = {};
+  const vmask<W> lanes = mask & parameters.opaque;
+  if (none(lanes)) return lanes;
+  const vec3<W> n = shading_frame_normal(hit, parameters);
+  const vec3<W>& geometric = hit.geometric_normal;
+  const vfloat<W> zero(0.0f), one(1.0f);
+
+  // Reflection about the shading normal; where that dips below the surface, about the geometric one.
+  vec3<W> reflected = normalize(reflect(hit.wo, n));
+  reflected = select(dot(reflected, geometric) > zero, reflected, normalize(reflect(hit.wo, geometric)));
+
+  // Dielectric interface.
+  const vfloat<W> t = clamp(select(isfinite(transmission), transmission, zero), zero, one);
+  const vmask<W> glass = lanes & (t > zero);
+  vec3<W> refracted;
+  vfloat<W> fresnel(0.0f);
+  if (any(glass)) {
+    const vfloat<W> raw_ior = parameters.ior;
+    // A non-positive or non-finite ior is treated as glTF's default 1.5.
+    const vfloat<W> ior = select(isfinite(raw_ior) & (raw_ior > zero), raw_ior, vfloat<W>(1.5f));
+    const vfloat<W> eta = select(hit.front_face, one / ior, ior);
+    const vfloat<W> cos_i = clamp(dot(n, hit.wo), zero, one);
+    const vfloat<W> sin2_t = eta * eta * (one - cos_i * cos_i);
+    const vmask<W> total_internal = sin2_t >= one;
+    const vfloat<W> cos_t = sqrt(max(one - sin2_t, zero));
+    // Denominators vanish only when both cosines are 0 (grazing at the critical angle); the
+    // floor keeps the ratio finite there, where the limit is total reflection anyway.
+    const vfloat<W> tiny(1e-12f);
+    const vfloat<W> r_s = (eta * cos_i - cos_t) / max(eta * cos_i + cos_t, tiny);
+    const vfloat<W> r_p = (cos_i - eta * cos_t) / max(cos_i + eta * cos_t, tiny);
+    fresnel = select(total_internal, one, clamp(vfloat<W>(0.5f) * (r_s * r_s + r_p * r_p), zero, one));
+    refracted = normalize(n * (eta * cos_i - cos_t) - hit.wo * eta);
+  }
+  reflection.weight = keep(mirror + vec3<W>(glm::vec3(1.0f)) * (t * fresnel), lanes);
+  reflection.direction = reflected;
+  reflection.origin = offset_origin(hit.position, geometric, ray_epsilon);
+  reflection.active = lanes & (max_component(reflection.weight) > zero);
+
+  const vfloat<W> transmitted = keep(t * (one - fresnel), glass);
+  refraction.weight = vec3<W>(transmitted, transmitted, transmitted);
+  refraction.direction = refracted;
+  refraction.origin = offset_origin(hit.position, -geometric, ray_epsilon);
+  refraction.active = glass & (transmitted > zero) & (length_squared(refracted) > zero);
+
+  reflection.direction = keep(reflection.direction, reflection.active);
+  reflection.origin = keep(reflection.origin, reflection.active);
+  reflection.weight = keep(reflection.weight, reflection.active);
+  refraction.direction = keep(refraction.direction, refraction.active);
+  refraction.origin = keep(refraction.origin, refraction.active);
+  refraction.weight = keep(refraction.weight, refraction.active);
+  return reflection.active | refraction.active;
+}
+
+}  // namespace brdf_detail
+
+/// Lambertian reflection: gathers irradiance, spawns nothing.
+class LambertBrdf {
+ public:
+  /// Policy name.
+  static constexpr const char* name() noexcept { return "lambert"; }
+  /// irradiance += intensity x falloff x cos(theta_x) on the lanes of `mask`.
+  template <int W>
+  void add_vpl(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const VplGeometry<W>& geometry,
+               const glm::vec3& intensity, VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
+    brdf_detail::add_irradiance(brdf_detail::shading_frame_normal(hit, parameters), geometry, intensity, accumulator,
+                           mask & parameters.opaque);
+  }
+  /// No secondary rays.
+  template <int W>
+  vmask<W> spawn(const SurfaceHit<W>&, const BrdfParameters<W>&, SecondaryRays<W>& reflection,
+                 SecondaryRays<W>& refraction, const vmask<W>&) const noexcept {
+    reflection = {};
+    refraction = {};
+    return vmask<W>(false);
+  }
+  /// albedo / pi x cos(theta_i).
+  template <int W>
+  vec3<W> evaluate(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const vec3<W>& wi,
+                   const vmask<W>& mask) const noexcept {
+    return brdf_detail::evaluate_diffuse_glossy(hit, parameters, wi, false, mask);
+  }
+};
+
+/// Lambert plus an energy-normalised Phong lobe; the lobe's VPL radiance goes to `glossy`.
+class PhongBrdf {
+ public:
+  /// Policy name.
+  static constexpr const char* name() noexcept { return "phong"; }
+  /// Irradiance as LambertBrdf, and glossy += intensity x falloff x cos(theta_x) x f_glossy(wo, wi).
+  template <int W>
+  void add_vpl(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const VplGeometry<W>& geometry,
+               const glm::vec3& intensity, VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
+    const vmask<W> lanes = mask & parameters.opaque;
+    const vec3<W> n = brdf_detail::shading_frame_normal(hit, parameters);
+    brdf_detail::add_irradiance(n, geometry, intensity, accumulator, lanes);
+    brdf_detail::add_glossy(hit, parameters, n, geometry, intensity, accumulator, lanes);
+  }
+  /// No secondary rays.
+  template <int W>
+  vmask<W> spawn(const SurfaceHit<W>&, const BrdfParameters<W>&, SecondaryRays<W>& reflection,
+                 SecondaryRays<W>& refraction, const vmask<W>&) const noexcept {
+    reflection = {};
+    refraction = {};
+    return vmask<W>(false);
+  }
+  /// (albedo / pi + f_glossy) x cos(theta_i).
+  template <int W>
+  vec3<W> evaluate(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const vec3<W>& wi,
+                   const vmask<W>& mask) const noexcept {
+    return brdf_detail::evaluate_diffuse_glossy(hit, parameters, wi, true, mask);
+  }
+};
+
+/// A perfect mirror of reflectance `parameters.mirror`: no VPL light, one reflection ray.
+class MirrorBrdf {
+ public:
+  /// Mirror with `settings`.
+  explicit MirrorBrdf(const BrdfSettings& settings = {}) : settings_(settings) {}
+  /// Policy name.
+  static constexpr const char* name() noexcept { return "mirror"; }
+  /// A delta BRDF gathers nothing from point lights.
+  template <int W>
+  void add_vpl(const SurfaceHit<W>&, const BrdfParameters<W>&, const VplGeometry<W>&, const glm::vec3&,
+               VplAccumulator<W>&, const vmask<W>&) const noexcept {}
+  /// Reflection rays of weight `mirror` on the lanes of `mask` with a non-zero mirror colour.
+  template <int W>
+  vmask<W> spawn(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, SecondaryRays<W>& reflection,
+                 SecondaryRays<W>& refraction, const vmask<W>& mask) const noexcept {
+    return brdf_detail::spawn_specular(hit, parameters, parameters.mirror, vfloat<W>(0.0f), settings_.ray_epsilon, reflection,
+                                  refraction, mask);
+  }
+  /// Zero: a delta lobe has no density to evaluate.
+  template <int W>
+  vec3<W> evaluate(const SurfaceHit<W>&, const BrdfParameters<W>&, const vec3<W>&, const vmask<W>&) const noexcept {
+    return {};
+  }
+
+ private:
+  BrdfSettings settings_;
+};
+
+/// A clear dielectric interface of index `parameters.ior`: Fresnel reflection and refraction.
+class GlassBrdf {
+ public:
+  /// Glass with `settings`.
+  explicit GlassBrdf(const BrdfSettings& settings = {}) : settings_(settings) {}
+  /// Policy name.
+  static constexpr const char* name() noexcept { return "glass"; }
+  /// A delta BRDF gathers nothing from point lights.
+  template <int W>
+  void add_vpl(const SurfaceHit<W>&, const BrdfParameters<W>&, const VplGeometry<W>&, const glm::vec3&,
+               VplAccumulator<W>&, const vmask<W>&) const noexcept {}
+  /// Reflection (weight F) and refraction (weight 1 - F) rays; reflection only under total internal reflection.
+  template <int W>
+  vmask<W> spawn(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, SecondaryRays<W>& reflection,
+                 SecondaryRays<W>& refraction, const vmask<W>& mask) const noexcept {
+    return brdf_detail::spawn_specular(hit, parameters, vec3<W>(), vfloat<W>(1.0f), settings_.ray_epsilon, reflection,
+                                  refraction, mask);
+  }
+  /// Zero: a delta lobe has no density to evaluate.
+  template <int W>
+  vec3<W> evaluate(const SurfaceHit<W>&, const BrdfParameters<W>&, const vec3<W>&, const vmask<W>&) const noexcept {
+    return {};
+  }
+
+ private:
+  BrdfSettings settings_;
+};
+
+/// Everything at once, lane by lane: diffuse and glossy VPL light, mirror reflection and glass
+/// by `mirror`, `transmission` and `ior`. The renderer's default BRDF shader.
+class StandardBrdf {
+ public:
+  /// Standard BRDF with `settings`.
+  explicit StandardBrdf(const BrdfSettings& settings = {}) : settings_(settings) {}
+  /// Policy name.
+  static constexpr const char* name() noexcept { return "standard"; }
+  /// Diffuse irradiance and glossy radiance of one VPL on the lanes of `mask`.
+  template <int W>
+  void add_vpl(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const VplGeometry<W>& geometry,
+               const glm::vec3& intensity, VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
+    PhongBrdf{}.add_vpl(hit, parameters, geometry, intensity, accumulator, mask);
+  }
+  /// Reflection (mirror + transmission x F) and refraction (transmission x (1 - F)) rays.
+  template <int W>
+  vmask<W> spawn(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, SecondaryRays<W>& reflection,
+                 SecondaryRays<W>& refraction, const vmask<W>& mask) const noexcept {
+    return brdf_detail::spawn_specular(hit, parameters, parameters.mirror, parameters.transmission, settings_.ray_epsilon,
+                                  reflection, refraction, mask);
+  }
+  /// (albedo / pi + f_glossy) x cos(theta_i); the mirror and glass parts are deltas and not included.
+  template <int W>
+  vec3<W> evaluate(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const vec3<W>& wi,
+                   const vmask<W>& mask) const noexcept {
+    return brdf_detail::evaluate_diffuse_glossy(hit, parameters, wi, true, mask);
+  }
+
+ private:
+  BrdfSettings settings_;
+};
+
+}  // namespace igi

@@ -1,0 +1,180 @@
+#pragma once
+/// \file
+/// From traced packets to shading input: `make_surface_hit` turns a ray packet and its hit packet
+/// into a world-space `SurfaceHit<W>`. `SceneGeometry` caches the per-instance matrices it needs
+/// (rebuild it after instances move).
+///
+/// The hit position is interpolated from the world-space triangle with the hit's barycentrics
+/// rather than computed as origin + t * direction: the barycentric point lies on the triangle's
+/// plane to float precision whatever the ray length, so secondary and shadow rays offset from it
+/// by a small epsilon do not re-hit the surface they start on.
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "igi/backends/packet.hpp"
+#include "igi/scene/scene.hpp"
+#include "igi/shading/surface_hit.hpp"
+
+namespace igi {
+
+/// Per-instance matrices shading needs, computed once per scene state.
+class SceneGeometry {
+ public:
+  /// Empty cache; `update` fills it.
+  SceneGeometry() = default;
+  /// Cache for the current instance transforms of `scene`.
+  explicit SceneGeometry(const Scene& scene) { update(scene); }
+
+  /// Recomputes the matrices after instance transforms changed.
+  void update(const Scene& scene) {
+    object_to_world_.clear();
+    normal_to_world_.clear();
+    object_to_world_.reserve(scene.instances.size());
+    normal_to_world_.reserve(scene.instances.size());
+    for (const Instance& instance : scene.instances) {
+      object_to_world_.push_back(instance.transform);
+      normal_to_world_.push_back(glm::transpose(glm::inverse(glm::mat3(instance.transform))));
+    }
+  }
+  /// Number of instances cached.
+  std::size_t size() const noexcept { return object_to_world_.size(); }
+  /// Object-to-world transform of instance `i`.
+  const glm::mat4& object_to_world(std::size_t i) const noexcept { return object_to_world_[i]; }
+  /// Inverse transpose of the linear part of instance `i`'s transform (maps normals).
+  const glm::mat3& normal_to_world(std::size_t i) const noexcept { return normal_to_world_[i]; }
+
+ private:
+  std::vector<glm::mat4> object_to_world_;
+  std::vector<glm::mat3> normal_to_world_;
+};
+
+namespace hit_detail {
+
+/// Throws if lane data of a hit refers to meshes, instances or triangles the scene lacks.
+inline void check_hit_ids(const Scene& scene, std::size_t cached_instances, std::uint32_t mesh, std::uint32_t instance,
+                          std::uint32_t triangle) {
+  if (instance >= scene.instances.size() || instance >= cached_instances)
+    throw std::out_of_range("make_surface_hit: instance id " + std::to_string(instance) + " is not in the scene (" +
+                            std::to_string(scene.instances.size()) + " instances; rebuild SceneGeometry after changes)");
+  if (mesh >= scene.meshes.size())
+    throw std::out_of_range("make_surface_hit: mesh id " + std::to_string(mesh) + " is not in the scene (" +
+                            std::to_string(scene.meshes.size()) + " meshes)");
+  if (triangle >= scene.meshes[mesh].triangles.size())
+    throw std::out_of_range("make_surface_hit: triangle " + std::to_string(triangle) + " is not in mesh '" +
+                            scene.meshes[mesh].name + "'");
+}
+
+/// The body of both make_surface_hit overloads; `matrices(instance)` yields the instance's
+/// object-to-world and normal matrices, `instance_count` how many instances it knows.
+template <int W, class Matrices>
+SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, const Matrices& matrices,
+                                const RayPacket<W>& rays, const HitPacket<W>& hits, const vmask<W>& mask) {
+  SurfaceHit<W> hit;
+  const vmask<W> active = mask & hits.valid();
+  if (none(active)) return hit;
+
+  // Gather the world-space triangle, its vertex normals and uvs lane by lane (scalar: the data
+  // are scattered over meshes), then do the vector algebra on packets.
+  vec3<W> p0, p1, p2, interpolated_normal;
+  vfloat<W> tex_u, tex_v;
+  for (int i = 0; i < W; ++i) {
+    if (!active[i]) continue;
+    const std::uint32_t mesh_id = hits.geomID[i], instance_id = hits.instID[i], triangle_id = hits.primID[i];
+    check_hit_ids(scene, instance_count, mesh_id, instance_id, triangle_id);
+    const Mesh& mesh = scene.meshes[mesh_id];
+    const glm::uvec3 triangle = mesh.triangles[triangle_id];
+    if (triangle.x >= mesh.positions.size() || triangle.y >= mesh.positions.size() || triangle.z >= mesh.positions.size())
+      throw std::out_of_range("make_surface_hit: triangle " + std::to_string(triangle_id) + " of mesh '" + mesh.name +
+                              "' indexes a vertex beyond its " + std::to_string(mesh.positions.size()) + " positions");
+    const auto [to_world, normal_to_world] = matrices(instance_id);
+    const float b1 = hits.u[i], b2 = hits.v[i], b0 = 1.0f - b1 - b2;
+    p0.set(i, glm::vec3(to_world * glm::vec4(mesh.positions[triangle.x], 1.0f)));
+    p1.set(i, glm::vec3(to_world * glm::vec4(mesh.positions[triangle.y], 1.0f)));
+    p2.set(i, glm::vec3(to_world * glm::vec4(mesh.positions[triangle.z], 1.0f)));
+    if (mesh.normals.size() == mesh.positions.size()) {
+      const glm::vec3 n =
+          b0 * mesh.normals[triangle.x] + b1 * mesh.normals[triangle.y] + b2 * mesh.normals[triangle.z];
+      interpolated_normal.set(i, normal_to_world * n);
+    }
+    if (mesh.uvs.size() == mesh.positions.size()) {
+      const glm::vec2 uv = b0 * mesh.uvs[triangle.x] + b1 * mesh.uvs[triangle.y] + b2 * mesh.uvs[triangle.z];
+      tex_u.set(i, uv.x);
+      tex_v.set(i, uv.y);
+    }
+    hit.material.set(i, mesh.material);
+    hit.mesh.set(i, std::int32_t(mesh_id));
+    hit.instance.set(i, std::int32_t(instance_id));
+    hit.triangle.set(i, std::int32_t(triangle_id));
+  }
+
+  const vfloat<W> b1 = vfloat<W>::load(hits.u), b2 = vfloat<W>::load(hits.v);
+  const vfloat<W> b0 = vfloat<W>(1.0f) - b1 - b2;
+  hit.position = keep(p0 * b0 + p1 * b1 + p2 * b2, active);
+
+  const vec3<W> direction = rays.direction();
+  const vfloat<W> direction_length = length(direction);
+  hit.wo = keep(-normalize(direction), active);
+  hit.distance = keep(vfloat<W>::load(rays.tfar) * direction_length, active);
+
+  // Geometric normal of the world-space triangle; the winding decides the front face.
+  const vec3<W> winding_normal = normalize(cross(p1 - p0, p2 - p0));
+  const vfloat<W> facing = dot(winding_normal, hit.wo);
+  hit.front_face = active & (facing > vfloat<W>(0.0f));
+  vec3<W> geometric = select(facing < vfloat<W>(0.0f), -winding_normal, winding_normal);
+  // A degenerate (zero-area) triangle has no normal; the direction back to the eye is the only
+  // safe choice that keeps every later cosine finite and the surface facing the ray.
+  const vmask<W> degenerate = length_squared(geometric) == vfloat<W>(0.0f);
+  geometric = select(degenerate, hit.wo, geometric);
+  hit.geometric_normal = keep(geometric, active);
+
+  // Shading normal: interpolated, flipped into the geometric hemisphere; missing or zero
+  // vertex normals fall back to the geometric normal.
+  vec3<W> shading = normalize(interpolated_normal);
+  shading = select(dot(shading, geometric) < vfloat<W>(0.0f), -shading, shading);
+  shading = select(length_squared(shading) == vfloat<W>(0.0f), geometric, shading);
+  hit.shading_normal = keep(shading, active);
+
+  hit.u = keep(tex_u, active);
+  hit.v = keep(tex_v, active);
+  return hit;
+}
+
+/// Matrices of one instance, by value.
+struct InstanceMatrices {
+  glm::mat4 object_to_world;  ///< Instance transform.
+  glm::mat3 normal_to_world;  ///< Inverse transpose of its linear part.
+};
+
+}  // namespace hit_detail
+
+/// Builds the world-space hits of the lanes of `mask` that hit something, using the cached
+/// instance matrices; other lanes are zero. Throws std::out_of_range on ids the scene lacks.
+template <int W>
+SurfaceHit<W> make_surface_hit(const Scene& scene, const SceneGeometry& geometry, const RayPacket<W>& rays,
+                               const HitPacket<W>& hits, const vmask<W>& mask) {
+  return hit_detail::build_surface_hit(
+      scene, geometry.size(),
+      [&](std::uint32_t i) { return hit_detail::InstanceMatrices{geometry.object_to_world(i), geometry.normal_to_world(i)}; },
+      rays, hits, mask);
+}
+
+/// Builds world-space hits without a cache: each lane inverts its instance's 3x3 matrix
+/// (cheap next to tracing; use the SceneGeometry overload to skip even that).
+template <int W>
+SurfaceHit<W> make_surface_hit(const Scene& scene, const RayPacket<W>& rays, const HitPacket<W>& hits,
+                               const vmask<W>& mask) {
+  return hit_detail::build_surface_hit(
+      scene, scene.instances.size(),
+      [&](std::uint32_t i) {
+        const glm::mat4& transform = scene.instances[i].transform;
+        return hit_detail::InstanceMatrices{transform, glm::transpose(glm::inverse(glm::mat3(transform)))};
+      },
+      rays, hits, mask);
+}
+
+}  // namespace igi

@@ -1,0 +1,84 @@
+#pragma once
+// The cross-check test cases, stamped out once per backend family by IGI_CROSS_CHECK_CASES(prefix, types...).
+
+#include "cross_check.hpp"
+
+namespace igi::testing {
+
+/// Builds B over `scene` and cross-checks every ray kind.
+template <class B>
+void check_scene(const Scene& scene) {
+  static_assert(Backend<B>);
+  const B backend(scene);
+  cross_check_all_kinds(scene, backend);
+}
+
+/// instanced_scene() with instance 2 moved through the backend's update path (not a rebuild):
+/// the reference is built from the moved scene directly.
+template <class B>
+void check_moved_instance() {
+  Scene scene = instanced_scene();
+  B backend(scene);
+  {
+    // Trace once before moving, so a backend that forgets the update is caught with stale state.
+    const ReferenceBackend<1> reference(scene);
+    cross_check(scene, backend, reference, random_rays(scene, 1024, 5));
+  }
+  scene.instances[2].transform = moved_transform();
+  backend.set_instance_transform(2, moved_transform());
+  backend.commit();
+  cross_check_all_kinds(scene, backend);
+}
+
+/// instanced_scene() with the sphere mesh (used by three instances) deformed through set_mesh_positions.
+template <class B>
+void check_changed_vertices() {
+  Scene scene = instanced_scene();
+  B backend(scene);
+  const std::vector<glm::vec3> positions = deformed_sphere_positions(scene);
+  scene.meshes[1].positions = positions;
+  backend.set_mesh_positions(1, positions);
+  backend.commit();
+  cross_check_all_kinds(scene, backend);
+}
+
+}  // namespace igi::testing
+
+#if defined(IGI_TEST_HAVE_CORNELL)
+#define IGI_CROSS_CHECK_CORNELL(prefix, ...)                                                      \
+  TEMPLATE_TEST_CASE(prefix " cross-check: Cornell box", "[backends]", __VA_ARGS__) {             \
+    igi::testing::check_scene<TestType>(igi::cornell_box());                                      \
+  }
+#else
+#define IGI_CROSS_CHECK_CORNELL(prefix, ...)
+#endif
+
+#if defined(IGI_TEST_HAVE_GLTF)
+#define IGI_CROSS_CHECK_BUNNY(prefix, ...)                                                        \
+  TEMPLATE_TEST_CASE(prefix " cross-check: bunny", "[backends]", __VA_ARGS__) {                   \
+    const auto path = igi::testing::scene_path("bunny/stanford-bunny.glb");                      \
+    IGI_REQUIRE_SCENE(path);                                                                      \
+    igi::testing::check_scene<TestType>(igi::load_gltf(path));                                    \
+  }
+#else
+#define IGI_CROSS_CHECK_BUNNY(prefix, ...)
+#endif
+
+/// Every cross-check case for the backend types given.
+#define IGI_CROSS_CHECK_CASES(prefix, ...)                                                        \
+  TEMPLATE_TEST_CASE(prefix " cross-check: random triangle soup", "[backends]", __VA_ARGS__) {    \
+    igi::testing::check_scene<TestType>(igi::testing::soup_scene());                              \
+  }                                                                                               \
+  TEMPLATE_TEST_CASE(prefix " cross-check: instanced scene", "[backends]", __VA_ARGS__) {         \
+    igi::testing::check_scene<TestType>(igi::testing::instanced_scene());                         \
+  }                                                                                               \
+  TEMPLATE_TEST_CASE(prefix " cross-check: instanced scene after an instance moved", "[backends]", \
+                     __VA_ARGS__) {                                                               \
+    igi::testing::check_moved_instance<TestType>();                                               \
+  }                                                                                               \
+  TEMPLATE_TEST_CASE(prefix " cross-check: instanced scene after mesh vertices changed",          \
+                     "[backends]", __VA_ARGS__) {                                                 \
+    igi::testing::check_changed_vertices<TestType>();                                             \
+  }                                                                                               \
+  IGI_CROSS_CHECK_CORNELL(prefix, __VA_ARGS__)                                                    \
+  IGI_CROSS_CHECK_BUNNY(prefix, __VA_ARGS__)

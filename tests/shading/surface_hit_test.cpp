@@ -1,0 +1,130 @@
+// make_surface_hit against hand-computed world-space geometry.
+
+#include <cmath>
+
+#include <catch2/catch.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "../lighting/test_scenes.hpp"
+#include "igi/backends/reference/reference_backend.hpp"
+#include "igi/shading/surface_hit_builder.hpp"
+
+using namespace igi;
+
+namespace {
+
+// A unit quad in the object-space plane z = 0 (front face +z) with tilted vertex normals, placed
+// by a rotation, a non-uniform scale and a translation.
+Scene tilted_scene(const glm::mat4& transform) {
+  Scene scene;
+  testing::add_quad(scene, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.5f, testing::add_material(scene, glm::vec3(0.5f)),
+                    transform);
+  // Vertex normals leaning towards +x: the shading normal differs from the geometric one.
+  for (glm::vec3& n : scene.meshes[0].normals) n = glm::normalize(glm::vec3(0.5f, 0.0f, 1.0f));
+  return scene;
+}
+
+glm::mat4 test_transform() {
+  glm::mat4 t = glm::translate(glm::mat4(1.0f), glm::vec3(1.0f, 2.0f, -3.0f));
+  t = glm::rotate(t, 0.7f, glm::normalize(glm::vec3(1.0f, 1.0f, 0.0f)));
+  return glm::scale(t, glm::vec3(2.0f, 0.5f, 3.0f));
+}
+
+}  // namespace
+
+TEST_CASE("make_surface_hit: world position, normals, uv and ids match the transformed quad", "[shading]") {
+  const glm::mat4 transform = test_transform();
+  const Scene scene = tilted_scene(transform);
+  const ReferenceBackend<4> backend(scene);
+  const glm::vec3 world_normal = glm::normalize(glm::transpose(glm::inverse(glm::mat3(transform))) * glm::vec3(0, 0, 1));
+
+  // Four object-space targets on the quad, seen from the front (lanes 0, 1) and the back (2, 3).
+  const glm::vec2 targets[4] = {{0.1f, 0.2f}, {-0.3f, 0.25f}, {0.4f, -0.4f}, {-0.2f, -0.1f}};
+  RayPacket<4> rays;
+  vec3<4> origin, direction;
+  glm::vec3 expected[4];
+  for (int i = 0; i < 4; ++i) {
+    expected[i] = glm::vec3(transform * glm::vec4(targets[i], 0.0f, 1.0f));
+    const float side = i < 2 ? 1.0f : -1.0f;
+    const glm::vec3 from = expected[i] + side * 4.0f * world_normal + glm::vec3(0.3f, -0.2f, 0.1f);
+    origin.set(i, from);
+    direction.set(i, (expected[i] - from) * 0.5f);  // deliberately not unit length
+  }
+  rays.set(origin, direction, vfloat<4>(0.0f), vfloat<4>(1e30f), vmask<4>(true));
+  HitPacket<4> hits;
+  hits.clear();
+  backend.intersect(rays, hits, vmask<4>(true));
+  REQUIRE(all(hits.valid()));
+
+  vmask<4> mask(true);
+  mask.set(3, false);  // lane 3 hit but is inactive: it must come out zero
+  const SurfaceHit<4> hit = make_surface_hit(scene, rays, hits, mask);
+  const SurfaceHit<4> cached = make_surface_hit(scene, SceneGeometry(scene), rays, hits, mask);
+
+  const glm::vec3 shading_world =
+      glm::normalize(glm::transpose(glm::inverse(glm::mat3(transform))) * glm::normalize(glm::vec3(0.5f, 0, 1)));
+  for (int i = 0; i < 3; ++i) {
+    INFO("lane " << i);
+    const glm::vec3 from = origin[i];
+    // Float tolerance: coordinates of size ~5 carry rounding of a few 1e-7 relative.
+    CHECK(glm::length(hit.position[i] - expected[i]) < 1e-4f);
+    CHECK(hit.distance[i] == Approx(glm::length(expected[i] - from)).epsilon(1e-5));
+    const glm::vec3 facing = i < 2 ? world_normal : -world_normal;
+    CHECK(glm::length(hit.geometric_normal[i] - facing) < 1e-5f);
+    CHECK(hit.front_face[i] == (i < 2));
+    CHECK(glm::length(hit.wo[i] - glm::normalize(from - expected[i])) < 1e-5f);
+    const glm::vec3 shading = i < 2 ? shading_world : -shading_world;
+    CHECK(glm::length(hit.shading_normal[i] - shading) < 1e-5f);
+    CHECK(glm::dot(hit.shading_normal[i], hit.geometric_normal[i]) > 0.0f);
+    // uv of the quad is (x + 0.5, y + 0.5) in object space.
+    CHECK(hit.u[i] == Approx(targets[i].x + 0.5f).margin(1e-5));
+    CHECK(hit.v[i] == Approx(targets[i].y + 0.5f).margin(1e-5));
+    CHECK(hit.material[i] == 0);
+    CHECK(hit.mesh[i] == 0);
+    CHECK(hit.instance[i] == 0);
+    CHECK((hit.triangle[i] == 0 || hit.triangle[i] == 1));
+    // The cached and uncached builders agree exactly.
+    CHECK(cached.position[i] == hit.position[i]);
+    CHECK(cached.shading_normal[i] == hit.shading_normal[i]);
+  }
+  CHECK(hit.position[3] == glm::vec3(0.0f));
+  CHECK(hit.geometric_normal[3] == glm::vec3(0.0f));
+  CHECK(hit.shading_normal[3] == glm::vec3(0.0f));
+  CHECK(hit.distance[3] == 0.0f);
+  CHECK(hit.u[3] == 0.0f);
+  CHECK_FALSE(hit.front_face[3]);
+}
+
+TEST_CASE("make_surface_hit: missed lanes are zero and bad ids throw", "[shading]") {
+  const Scene scene = tilted_scene(glm::mat4(1.0f));
+  RayPacket<4> rays;
+  rays.set(vec3<4>(glm::vec3(0, 0, 1)), vec3<4>(glm::vec3(0, 0, -1)), vfloat<4>(0.0f), vfloat<4>(10.0f), vmask<4>(true));
+  HitPacket<4> hits;
+  hits.clear();
+  const SurfaceHit<4> none_hit = make_surface_hit(scene, rays, hits, vmask<4>(true));
+  for (int i = 0; i < 4; ++i) CHECK(none_hit.wo[i] == glm::vec3(0.0f));
+
+  hits.geomID[0] = 0;
+  hits.instID[0] = 0;
+  hits.primID[0] = 7;  // the quad has 2 triangles
+  CHECK_THROWS_AS(make_surface_hit(scene, rays, hits, vmask<4>(true)), std::out_of_range);
+  hits.primID[0] = 0;
+  hits.instID[0] = 5;
+  CHECK_THROWS_WITH(make_surface_hit(scene, rays, hits, vmask<4>(true)), Catch::Contains("instance id 5"));
+}
+
+TEST_CASE("make_surface_hit: a degenerate triangle gives finite normals facing the ray", "[shading]") {
+  Scene scene = tilted_scene(glm::mat4(1.0f));
+  scene.meshes[0].positions[2] = scene.meshes[0].positions[1];  // triangle 0 collapses to a segment
+  scene.meshes[0].normals.clear();                             // and no vertex normals
+  RayPacket<1> ray;
+  ray.set(vec3<1>(glm::vec3(0, 0, 1)), vec3<1>(glm::vec3(0, 0, -1)), vfloat<1>(0.0f), vfloat<1>(1.0f), vmask<1>(true));
+  HitPacket<1> hit;
+  hit.clear();
+  hit.geomID[0] = hit.instID[0] = hit.primID[0] = 0;
+  hit.u[0] = 0.3f;
+  hit.v[0] = 0.3f;
+  const SurfaceHit<1> s = make_surface_hit(scene, ray, hit, vmask<1>(true));
+  CHECK(glm::length(s.geometric_normal[0] - glm::vec3(0, 0, 1)) < 1e-6f);
+  CHECK(glm::length(s.shading_normal[0] - glm::vec3(0, 0, 1)) < 1e-6f);
+}

@@ -1,0 +1,246 @@
+// Surface shaders: texture sampling, the glTF material mapping, noise, procedural patterns and
+// the scalar adapter.
+
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "igi/shading/gltf_material_shader.hpp"
+#include "igi/shading/noise.hpp"
+#include "igi/shading/procedural_shaders.hpp"
+#include "igi/shading/scalar_shader_adapter.hpp"
+#include "igi/shading/texture_sampling.hpp"
+
+using namespace igi;
+
+namespace {
+
+constexpr int W = 8;
+
+// A 2x2 texture: red, green / blue, white (top row first), alpha 255, 0 / 255, 128.
+Texture checker(bool srgb) {
+  Texture t;
+  t.name = "checker";
+  t.width = 2;
+  t.height = 2;
+  t.srgb = srgb;
+  t.texels = {255, 0, 0, 255, 0, 255, 0, 0, 0, 0, 255, 255, 255, 255, 255, 128};
+  return t;
+}
+
+// W hits on a floor facing +y at positions along x, front faces, material 0.
+SurfaceHit<W> floor_hits(float spacing, float y = 0.0f) {
+  SurfaceHit<W> hit;
+  for (int i = 0; i < W; ++i) {
+    hit.position.set(i, {float(i) * spacing, y, 0.37f * float(i)});
+    hit.u.set(i, 0.25f);
+    hit.v.set(i, 0.25f);
+  }
+  hit.geometric_normal = vec3<W>(glm::vec3(0, 1, 0));
+  hit.shading_normal = hit.geometric_normal;
+  hit.wo = hit.geometric_normal;
+  hit.front_face = vmask<W>(true);
+  return hit;
+}
+
+bool finite(const vec3<W>& v) { return all(isfinite(v.x) & isfinite(v.y) & isfinite(v.z)); }
+
+}  // namespace
+
+TEST_CASE("texture: sRGB table and bilinear lookups with repeat wrapping", "[shading][texture]") {
+  const auto& table = srgb_to_linear_table();
+  CHECK(table[0] == 0.0f);
+  CHECK(table[255] == Approx(1.0f));
+  CHECK(table[128] == Approx(0.2158605f).epsilon(1e-5));  // IEC 61966-2-1 value of 128/255
+  for (int i = 1; i < 256; ++i) CHECK(table[std::size_t(i)] > table[std::size_t(i - 1)]);
+
+  const Texture t = checker(false);
+  // Texel centres give the texels exactly; v = 0 is the top row.
+  CHECK(sample_bilinear(t, {0.25f, 0.25f}) == glm::vec4(1, 0, 0, 1));
+  CHECK(sample_bilinear(t, {0.75f, 0.75f}) == glm::vec4(1, 1, 1, 128.0f / 255.0f));
+  // Half way between the two top texels.
+  const glm::vec4 mid = sample_bilinear(t, {0.5f, 0.25f});
+  CHECK(mid.x == Approx(0.5f));
+  CHECK(mid.y == Approx(0.5f));
+  // Repeat: u + 1 and u - 3 read the same; the edge blends with the opposite side.
+  CHECK(sample_bilinear(t, {1.25f, 0.25f}) == sample_bilinear(t, {0.25f, 0.25f}));
+  CHECK(sample_bilinear(t, {-2.75f, 0.25f}) == sample_bilinear(t, {0.25f, 0.25f}));
+  const glm::vec4 edge = sample_bilinear(t, {0.0f, 0.25f});
+  CHECK(edge.x == Approx(0.5f));
+  // Garbage coordinates and empty textures do not crash.
+  const glm::vec4 nan = sample_bilinear(t, {std::numeric_limits<float>::quiet_NaN(), 1e30f});
+  CHECK(std::isfinite(nan.x));
+  CHECK(sample_bilinear(Texture{}, {0.5f, 0.5f}) == glm::vec4(1.0f));
+  // sRGB decoding: 255 -> 1 either way, alpha never decoded.
+  CHECK(sample_bilinear(checker(true), {0.75f, 0.75f}).w == Approx(128.0f / 255.0f));
+}
+
+TEST_CASE("GltfMaterialShader: factors, texture, cut-outs, metal, mirror, glass and emission", "[shading][gltf]") {
+  Scene scene;
+  scene.textures.push_back(checker(true));
+  Mesh mesh;
+  mesh.material = 0;
+  scene.meshes.push_back(mesh);
+  Material textured{.name = "textured", .base_color = {0.5f, 1.0f, 1.0f, 1.0f}, .base_color_texture = 0, .metallic = 0.0f};
+  textured.alpha_mode = AlphaMode::mask;
+  scene.materials.push_back(textured);
+  scene.materials.push_back({.name = "gold", .base_color = {1.0f, 0.8f, 0.3f, 1.0f}, .metallic = 1.0f, .roughness = 0.5f});
+  scene.materials.push_back({.name = "chrome", .base_color = {0.9f, 0.9f, 0.9f, 1.0f}, .metallic = 1.0f, .roughness = 0.0f});
+  scene.materials.push_back({.name = "glass", .base_color = {1, 1, 1, 1}, .metallic = 0.0f, .transmission = 1.0f, .ior = 1.33f});
+  scene.materials.push_back({.name = "lamp", .base_color = {1, 1, 1, 1}, .metallic = 0.0f, .emission = {4, 3, 2}});
+
+  const GltfMaterialShader shader(scene);
+  STATIC_REQUIRE(SurfaceShader<GltfMaterialShader, W>);
+  SurfaceHit<W> hit = floor_hits(0.1f);
+  for (int i = 0; i < 5; ++i) hit.material.set(i, i);
+  hit.material.set(5, 4);
+  hit.front_face.set(5, false);  // the lamp's back face does not emit
+  hit.material.set(6, 0);
+  hit.u.set(6, 0.75f);  // the texel with alpha 0: cut out
+  vmask<W> mask(true);
+  mask.set(7, false);
+  const BrdfParameters<W> p = shader.shade(hit, mask);
+
+  // Red texel (decoded 1, 0, 0) times factor 0.5: albedo (0.5, 0, 0), opaque.
+  CHECK(glm::length(p.albedo[0] - glm::vec3(0.5f, 0.0f, 0.0f)) < 1e-6f);
+  CHECK(p.opaque[0]);
+  CHECK_FALSE(p.opaque[6]);
+  // Gold: no diffuse part, glossy in its colour with exponent 2 / 0.25^2 - 2 = 30.
+  CHECK(p.albedo[1] == glm::vec3(0.0f));
+  CHECK(glm::length(p.glossy[1] - glm::vec3(1.0f, 0.8f, 0.3f)) < 1e-6f);
+  CHECK(p.shininess[1] == Approx(30.0f));
+  // Chrome is smoother than the mirror threshold: a mirror.
+  CHECK(glm::length(p.mirror[2] - glm::vec3(0.9f)) < 1e-6f);
+  CHECK(p.glossy[2] == glm::vec3(0.0f));
+  // Glass: all transmission, no diffuse, its ior.
+  CHECK(p.transmission[3] == 1.0f);
+  CHECK(p.albedo[3] == glm::vec3(0.0f));
+  CHECK(p.ior[3] == Approx(1.33f));
+  // Emission on the front face only.
+  CHECK(p.emission[4] == glm::vec3(4, 3, 2));
+  CHECK(p.emission[5] == glm::vec3(0.0f));
+  // Normals are the shading normals; the inactive lane is zero.
+  CHECK(p.normal[0] == glm::vec3(0, 1, 0));
+  CHECK(p.albedo[7] == glm::vec3(0.0f));
+  CHECK(p.normal[7] == glm::vec3(0.0f));
+  CHECK_FALSE(p.opaque[7]);
+
+  // Bad references are errors with a message.
+  SurfaceHit<W> bad = hit;
+  bad.material.set(0, 42);
+  CHECK_THROWS_WITH(shader.shade(bad, mask), Catch::Contains("material 42"));
+  Scene broken = scene;
+  broken.materials[0].base_color_texture = 9;
+  CHECK_THROWS_WITH(GltfMaterialShader(broken), Catch::Contains("texture 9"));
+}
+
+TEST_CASE("noise: bounded, zero on the lattice, continuous, seeded and width independent", "[shading][noise]") {
+  CHECK(perlin_noise(glm::vec3(3.0f, -2.0f, 7.0f)) == 0.0f);
+  double sum = 0.0, sum2 = 0.0;
+  float lowest = 0.0f, highest = 0.0f;
+  const int n = 4000;
+  int differs = 0;
+  for (int k = 0; k < n; ++k) {
+    const glm::vec3 p(0.37f * float(k), 0.11f * float(k % 97), -0.23f * float(k % 31));
+    const float value = perlin_noise(p);
+    lowest = std::min(lowest, value);
+    highest = std::max(highest, value);
+    sum += value;
+    sum2 += double(value) * value;
+    // Continuity: 1e-3 away the value moves by at most |gradient| (below ~3.5 here) x 1e-3.
+    CHECK(std::abs(perlin_noise(p + glm::vec3(1e-3f, 0.0f, 0.0f)) - value) < 4e-3f);
+    if (perlin_noise(p, 7) != value) ++differs;
+  }
+  // Gradients have components in [-1, 1]; trilinear blends of dots with offsets below 1 stay
+  // within sqrt(3) in magnitude.
+  CHECK(lowest >= -1.7321f);
+  CHECK(highest <= 1.7321f);
+  CHECK(highest - lowest > 0.5f);  // not constant
+  // Zero mean (gradients are symmetric) within a few standard errors.
+  const double mean = sum / n, deviation = std::sqrt(sum2 / n - mean * mean);
+  CHECK(std::abs(mean) < 4.0 * deviation / std::sqrt(double(n)) + 0.02);
+  CHECK(differs > n * 9 / 10);
+  // The packet version is the scalar one lane by lane.
+  vec3<W> p;
+  for (int i = 0; i < W; ++i) p.set(i, {0.3f * float(i) + 0.1f, -1.7f * float(i), 2.9f});
+  const vfloat<W> packet = perlin_noise(p, 3);
+  for (int i = 0; i < W; ++i) CHECK(packet[i] == perlin_noise(p[i], 3));
+  // Non-finite positions give finite noise.
+  CHECK(std::isfinite(perlin_noise(glm::vec3(std::numeric_limits<float>::infinity(), 1e30f, -1e30f))));
+}
+
+TEST_CASE("procedural shaders: patterns vary, albedo stays in [0, 1], bumps tilt normals", "[shading][procedural]") {
+  STATIC_REQUIRE(SurfaceShader<MarbleShader, W>);
+  STATIC_REQUIRE(SurfaceShader<WoodShader, W>);
+  STATIC_REQUIRE(SurfaceShader<BrickBumpShader, W>);
+  STATIC_REQUIRE(SurfaceShader<ConstantDiffuseShader, W>);
+  const SurfaceHit<W> hit = floor_hits(0.037f);
+  vmask<W> mask(true);
+  mask.set(7, false);
+  const auto check_albedo = [&](const BrdfParameters<W>& p) {
+    CHECK(finite(p.albedo));
+    float low = 1.0f, high = 0.0f;
+    for (int i = 0; i < 7; ++i) {
+      const glm::vec3 a = p.albedo[i];
+      CHECK(glm::all(glm::greaterThanEqual(a, glm::vec3(0.0f))));
+      CHECK(glm::all(glm::lessThanEqual(a, glm::vec3(1.0f))));
+      low = std::min(low, a.x);
+      high = std::max(high, a.x);
+      CHECK(glm::length(p.normal[i]) == Approx(1.0f).epsilon(1e-5));
+    }
+    CHECK(high - low > 0.02f);  // a pattern, not a constant
+    CHECK(p.albedo[7] == glm::vec3(0.0f));
+    CHECK(p.opaque == mask);
+  };
+  check_albedo(MarbleShader{}.shade(hit, mask));
+  check_albedo(WoodShader{}.shade(hit, mask));
+  check_albedo(BrickBumpShader{}.shade(hit, mask));
+  CHECK(ConstantDiffuseShader(glm::vec3(0.3f)).shade(hit, mask).albedo[2] == glm::vec3(0.3f));
+
+  // Bricks: a lane on a joint gets a tilted normal, one in the middle of a brick a flat one;
+  // without bump the normal is the shading normal everywhere.
+  BrickBumpSettings settings;
+  settings.seed = 5;
+  SurfaceHit<W> wall = floor_hits(0.0f);
+  // Floor (normal +y): bricks in (x, z); rows of 0.08 along z, bricks 0.2 along x.
+  wall.position.set(0, {0.1f, 0.0f, 0.04f});                                  // brick centre
+  wall.position.set(1, {0.05f, 0.0f, 0.08f + 0.75f * settings.mortar_width});  // on a joint's flank
+  wall.position.set(2, {0.05f, 0.0f, 0.08f});                                   // in the joint
+  const BrdfParameters<W> bumped = BrickBumpShader(settings).shade(wall, vmask<W>(true));
+  CHECK(glm::dot(bumped.normal[0], glm::vec3(0, 1, 0)) > 0.95f);
+  CHECK(glm::dot(bumped.normal[1], glm::vec3(0, 1, 0)) < 0.95f);
+  CHECK(bumped.albedo[2] == settings.mortar);
+  CHECK(glm::length(bumped.albedo[0] - settings.brick) < 0.1f);
+  settings.bump = 0.0f;
+  const BrdfParameters<W> flat = BrickBumpShader(settings).shade(wall, vmask<W>(true));
+  for (int i = 0; i < W; ++i) CHECK(glm::length(flat.normal[i] - glm::vec3(0, 1, 0)) < 1e-6f);
+}
+
+TEST_CASE("ScalarShaderAdapter: calls the scalar function on active lanes only", "[shading][adapter]") {
+  int calls = 0;
+  const auto function = [&calls](const SurfacePoint& point) {
+    ++calls;
+    ScalarBrdfParameters p;
+    p.albedo = glm::vec3(point.position.x, 0.5f, point.uv.x);
+    p.normal = point.position.x > 0.15f ? glm::vec3(0.0f, 2.0f, 2.0f) : glm::vec3(0.0f);  // unnormalised / zero
+    p.opaque = point.front_face;
+    return p;
+  };
+  const ScalarShaderAdapter adapter(function);
+  STATIC_REQUIRE(SurfaceShader<decltype(adapter), W>);
+  SurfaceHit<W> hit = floor_hits(0.1f);
+  hit.front_face.set(4, false);
+  vmask<W> mask(true);
+  mask.set(1, false);
+  const BrdfParameters<W> p = adapter.shade(hit, mask);
+  CHECK(calls == W - 1);
+  CHECK(p.albedo[3] == glm::vec3(0.3f, 0.5f, 0.25f) * glm::vec3(1.0f, 1.0f, 1.0f));
+  CHECK(p.albedo[1] == glm::vec3(0.0f));
+  CHECK(p.normal[0] == glm::vec3(0, 1, 0));  // zero normal -> the hit's shading normal
+  CHECK(glm::length(p.normal[3] - glm::normalize(glm::vec3(0, 1, 1))) < 1e-6f);
+  CHECK_FALSE(p.opaque[4]);
+  CHECK(p.opaque[3]);
+}
