@@ -8,3 +8,5 @@ find_package(PkgConfig REQUIRED)
 if(NOT TARGET PkgConfig::STB)
   pkg_check_modules(STB REQUIRED IMPORTED_TARGET GLOBAL stb)
 endif()
+# MPI is optional (igi::distributed only): QUIET so find_package(igi) works without it.
+find_package(MPI QUIET COMPONENTS CXX)

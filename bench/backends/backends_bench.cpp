@@ -165,10 +165,12 @@ void trace_all(const B& backend, const RaySet& set, Kind kind, int threads, tbb:
         rays.flags[lane] = 0;
         mask.set(lane, set.active[i] != 0);
       }
+      // Primary and shadow packets are coherent; bounce packets are not (Embree uses the hint).
+      const igi::Coherence coherence = kind == Kind::bounce ? igi::Coherence::incoherent : igi::Coherence::coherent;
       if (kind == Kind::shadow) {
-        benchmark::DoNotOptimize(backend.occluded(rays, mask));
+        benchmark::DoNotOptimize(backend.occluded(rays, coherence, mask));
       } else {
-        backend.intersect(rays, hits, mask);
+        backend.intersect(rays, hits, coherence, mask);
         benchmark::DoNotOptimize(&hits);
         benchmark::ClobberMemory();
       }

@@ -22,11 +22,11 @@
 #include "igi/backends/world_triangles.hpp"
 #include "igi/scene/scene.hpp"
 
-#if __has_include("igi/scene/cornell.hpp") && !defined(IGI_TEST_NO_CORNELL)
+#if __has_include("igi/scene/cornell.hpp")
 #include "igi/scene/cornell.hpp"
 #define IGI_TEST_HAVE_CORNELL 1
 #endif
-#if __has_include("igi/scene/gltf.hpp") && !defined(IGI_TEST_NO_GLTF)
+#if __has_include("igi/scene/gltf.hpp")
 #include "igi/scene/gltf.hpp"
 #define IGI_TEST_HAVE_GLTF 1
 #endif

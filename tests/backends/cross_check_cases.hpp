@@ -42,6 +42,30 @@ void check_changed_vertices() {
   cross_check_all_kinds(scene, backend);
 }
 
+/// An empty scene, and one whose only instance places a mesh without triangles: every ray misses.
+template <class B>
+void check_empty_scenes() {
+  Scene hollow;
+  Mesh no_triangles;
+  no_triangles.name = "no triangles";
+  no_triangles.positions = {glm::vec3(0.0f)};
+  hollow.meshes.push_back(no_triangles);
+  hollow.instances.push_back({"hollow", 0, glm::mat4(1.0f)});
+  for (const Scene& scene : {Scene{}, hollow}) {
+    const B backend(scene);
+    constexpr int W = B::width;
+    RayPacket<W> rays;
+    HitPacket<W> hits;
+    rays.set(vec3<W>(glm::vec3(0.0f, 0.0f, -1.0f)), vec3<W>(glm::vec3(0.0f, 0.0f, 1.0f)), vfloat<W>(0.0f),
+             vfloat<W>(1e30f), vmask<W>(true));
+    for (int lane = 0; lane < W; ++lane) hits.geomID[lane] = 5u;
+    backend.intersect(rays, hits, vmask<W>(true));
+    CHECK(none(hits.valid()));
+    CHECK(rays.tfar[0] == 1e30f);
+    CHECK(none(backend.occluded(rays, vmask<W>(true))));
+  }
+}
+
 }  // namespace igi::testing
 
 #if defined(IGI_TEST_HAVE_CORNELL)
@@ -79,6 +103,9 @@ void check_changed_vertices() {
   TEMPLATE_TEST_CASE(prefix " cross-check: instanced scene after mesh vertices changed",          \
                      "[backends]", __VA_ARGS__) {                                                 \
     igi::testing::check_changed_vertices<TestType>();                                             \
+  }                                                                                               \
+  TEMPLATE_TEST_CASE(prefix " empty scenes miss everything", "[backends]", __VA_ARGS__) {          \
+    igi::testing::check_empty_scenes<TestType>();                                                 \
   }                                                                                               \
   IGI_CROSS_CHECK_CORNELL(prefix, __VA_ARGS__)                                                    \
   IGI_CROSS_CHECK_BUNNY(prefix, __VA_ARGS__)

@@ -320,7 +320,7 @@ TEST_CASE("QmcVplSampler: closed emitting box - the VPL sum is the analytic irra
   CHECK(standard_error < 0.1 * expected);
 }
 
-TEST_CASE("QmcVplSampler: Sponza_lit - sun and lamp VPLs, finite, through alpha cut-outs", "[lighting][vpl][sponza]") {
+TEST_CASE("QmcVplSampler: Sponza_lit - sun and lamp VPLs, finite, about M per set", "[lighting][vpl][sponza]") {
   const auto path = testing::scene_path("sponza/Sponza_lit.gltf");
   IGI_REQUIRE_SCENE(path);
   const Scene scene = load_gltf(path);
@@ -346,4 +346,23 @@ TEST_CASE("QmcVplSampler: Sponza_lit - sun and lamp VPLs, finite, through alpha 
   CHECK(omni > 0);
   CHECK(double(total) / 9.0 > 0.7 * 16.0);
   CHECK(double(total) / 9.0 < 1.3 * 16.0);
+}
+
+TEST_CASE("QmcVplSampler: particles pass through alpha cut-outs", "[lighting][vpl]") {
+  const float rho = 0.5f;
+  Scene scene = testing::closed_box_with_light(rho, glm::vec3(1.0f));
+  // A fully cut-out sheet across the box (alpha 0 < cutoff 0.5) of a very different albedo:
+  // a particle that stopped on it would change the first-bounce power and leave a VPL on it.
+  const int sheet = testing::add_material(scene, glm::vec3(0.9f));
+  scene.materials[std::size_t(sheet)].base_color.a = 0.0f;
+  scene.materials[std::size_t(sheet)].alpha_mode = AlphaMode::mask;
+  testing::add_quad(scene, {0.5f, 0.5f, 0.5f}, {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 0.45f, sheet);
+  const ReferenceBackend<4> backend(scene);
+  const VplGeneration g = QmcVplSampler{}.generate_with_origins(scene, backend, {.sets = 4, .vpls_per_set = 64},
+                                                                GltfMaterialShader(scene));
+  const double power = 0.04 * double(pi);
+  for (std::size_t s = 0; s < 4; ++s) {
+    CHECK(set_flux(g, s, 1) == Approx(power * rho).epsilon(1e-4));
+    for (const Vpl& v : g.vpls.sets[s]) CHECK(std::abs(v.position.y - 0.5f) > 1e-3f);
+  }
 }

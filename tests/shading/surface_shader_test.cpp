@@ -172,7 +172,7 @@ TEST_CASE("noise: bounded, zero on the lattice, continuous, seeded and width ind
   CHECK(std::isfinite(perlin_noise(glm::vec3(std::numeric_limits<float>::infinity(), 1e30f, -1e30f))));
 }
 
-TEST_CASE("procedural shaders: patterns vary, albedo stays in [0, 1], bumps tilt normals", "[shading][procedural]") {
+TEST_CASE("procedural shaders: patterns vary, albedo stays in 0..1, bumps tilt normals", "[shading][procedural]") {
   STATIC_REQUIRE(SurfaceShader<MarbleShader, W>);
   STATIC_REQUIRE(SurfaceShader<WoodShader, W>);
   STATIC_REQUIRE(SurfaceShader<BrickBumpShader, W>);
@@ -243,4 +243,40 @@ TEST_CASE("ScalarShaderAdapter: calls the scalar function on active lanes only",
   CHECK(glm::length(p.normal[3] - glm::normalize(glm::vec3(0, 1, 1))) < 1e-6f);
   CHECK_FALSE(p.opaque[4]);
   CHECK(p.opaque[3]);
+}
+
+TEST_CASE("GltfMaterialShader: no material reflects more than it receives", "[shading][gltf]") {
+  // Over a grid of factors, diffuse + glossy + mirror + transmission (which the glass BRDF
+  // splits into Fresnel reflection and refraction) stays at most 1 per channel.
+  Scene scene;
+  Mesh mesh;
+  mesh.material = 0;
+  scene.meshes.push_back(mesh);
+  for (const float metallic : {0.0f, 0.3f, 1.0f})
+    for (const float roughness : {0.0f, 0.05f, 0.5f, 1.0f})
+      for (const float transmission : {0.0f, 0.5f, 1.0f})
+        for (const glm::vec3 color : {glm::vec3(1.0f), glm::vec3(0.9f, 0.2f, 0.5f), glm::vec3(2.0f, -1.0f, 0.5f)})
+          scene.materials.push_back({.base_color = glm::vec4(color, 1.0f),
+                                     .metallic = metallic,
+                                     .roughness = roughness,
+                                     .transmission = transmission});
+  const GltfMaterialShader shader(scene);
+  for (std::size_t m = 0; m < scene.materials.size(); m += W) {
+    SurfaceHit<W> hit = floor_hits(0.1f);
+    vmask<W> mask;
+    for (int i = 0; i < W && m + std::size_t(i) < scene.materials.size(); ++i) {
+      hit.material.set(i, int(m) + i);
+      mask.set(i, true);
+    }
+    const BrdfParameters<W> p = shader.shade(hit, mask);
+    for (int i = 0; i < W; ++i) {
+      if (!mask[i]) continue;
+      INFO("material " << m + std::size_t(i));
+      const glm::vec3 total = p.albedo[i] + p.glossy[i] + p.mirror[i] + glm::vec3(p.transmission[i]);
+      // 1e-6: float rounding of three products.
+      CHECK(glm::all(glm::lessThanEqual(total, glm::vec3(1.0f + 1e-6f))));
+      CHECK(glm::all(glm::greaterThanEqual(p.albedo[i], glm::vec3(0.0f))));
+      CHECK(p.shininess[i] >= 1.0f);
+    }
+  }
 }

@@ -168,7 +168,7 @@ TEST_CASE("sampling: 2-D Halton points have far lower star discrepancy than rand
   }
 }
 
-TEST_CASE("sampling: scrambled Halton samples stay in [0, 1) and depend on the seed", "[simd][sampling]") {
+TEST_CASE("sampling: scrambled Halton samples stay below 1 and depend on the seed", "[simd][sampling]") {
   const Halton a(1), b(2), a_again(1);
   int differing = 0;
   for (int dimension = 0; dimension < 32; ++dimension)
@@ -389,7 +389,7 @@ TEST_CASE("sampling: streams of different Rng seeds do not overlap", "[simd][sam
   CHECK(std::adjacent_find(pairs.begin(), pairs.end()) == pairs.end());
 }
 
-TEMPLATE_TEST_CASE_SIG("sampling: LaneRng lane i reproduces Rng(seed[i])", "[simd][sampling]", ((int W), W), 1, 4, 8, 16,
+TEMPLATE_TEST_CASE_SIG("sampling: LaneRng lane i reproduces the scalar Rng of its seed", "[simd][sampling]", ((int W), W), 1, 4, 8, 16,
                        64) {
   // Lane-distinct seeds, including 0 and the largest seed.
   vuint<W> seeds([](int i) { return static_cast<std::uint32_t>(i) * 2654435761U; });

@@ -42,12 +42,10 @@ struct alignas(packet_alignment) RayPacket {
     t_min.store(tnear);
     // Inactive lanes get tnear = 0 > tfar = -inf, which every backend treats as "no ray".
     select(active, t_max, vfloat<W>(-std::numeric_limits<float>::infinity())).store(tfar);
-    for (int i = 0; i < W; ++i) {
-      time[i] = 0.0f;
-      mask[i] = invalid_id;
-      id[i] = std::uint32_t(i);
-      flags[i] = 0;
-    }
+    vfloat<W>(0.0f).store(time);
+    vuint<W>(invalid_id).store(mask);
+    convert<std::uint32_t>(lane_index<W>()).store(id);
+    vuint<W>(0u).store(flags);
   }
   /// Origins as a packet.
   vec3<W> origin() const noexcept { return {vfloat<W>::load(org_x), vfloat<W>::load(org_y), vfloat<W>::load(org_z)}; }
@@ -71,17 +69,11 @@ struct alignas(packet_alignment) HitPacket {
 
   /// Marks every lane as a miss.
   void clear() noexcept {
-    for (int i = 0; i < W; ++i) {
-      Ng_x[i] = Ng_y[i] = Ng_z[i] = u[i] = v[i] = 0.0f;
-      primID[i] = geomID[i] = instID[i] = invalid_id;
-    }
+    for (float* channel : {Ng_x, Ng_y, Ng_z, u, v}) vfloat<W>(0.0f).store(channel);
+    for (std::uint32_t* id : {primID, geomID, instID}) vuint<W>(invalid_id).store(id);
   }
   /// Lanes that hit something.
-  vmask<W> valid() const noexcept {
-    vmask<W> m;
-    for (int i = 0; i < W; ++i) m.set(i, geomID[i] != invalid_id);
-    return m;
-  }
+  vmask<W> valid() const noexcept { return vuint<W>::load(geomID) != vuint<W>(invalid_id); }
 };
 
 }  // namespace igi

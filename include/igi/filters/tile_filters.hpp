@@ -116,7 +116,8 @@ class DiscontinuityFilter {
     filter_detail::prepare_filter("DiscontinuityFilter", gbuffer, interleave, out);
     filter_detail::window_average(gbuffer, interleave, out, [&](std::size_t centre, std::size_t neighbour) {
       if (!gbuffer.hit[centre] || !gbuffer.hit[neighbour]) return false;
-      if (glm::dot(gbuffer.normal[centre], gbuffer.normal[neighbour]) < cos_max_angle_) return false;
+      // Written as !(>=) so that a NaN normal rejects the neighbour too.
+      if (!(glm::dot(gbuffer.normal[centre], gbuffer.normal[neighbour]) >= cos_max_angle_)) return false;
       const float depth = gbuffer.depth[centre];
       return std::abs(gbuffer.depth[neighbour] - depth) <= settings_.max_relative_depth * std::abs(depth);
     });

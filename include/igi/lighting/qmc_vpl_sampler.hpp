@@ -9,8 +9,8 @@
 /// not on the frame (so N is steady while the scene is, and independent of the frame's walks,
 /// which keeps every set unbiased whatever N is). A set then holds about M VPLs: N on the
 /// lights, the rest where the walks bounced. Walk j of set s uses Halton index s N + j, so the
-/// sets take /// consecutive, disjoint blocks of one sequence; the sequence is scrambled by hash(seed, frame),
-/// so VPLs are a pure function of (scene, settings, frame, seed). Dimensions: 0 picks the light
+/// sets take consecutive, disjoint blocks of one sequence; the sequence is scrambled by
+/// hash(seed, frame), so VPLs are a pure function of (scene, settings, frame, seed). Dimensions: 0 picks the light
 /// (in proportion to power), 1-2 place the particle, 3-4 direct it, then three per bounce
 /// (Russian roulette / lobe choice, two for the direction); past Halton's 32 dimensions a
 /// counter-based hash of (scrambling seed, index, dimension) continues.
@@ -25,8 +25,9 @@
 /// unbiased estimate, so each set alone sums (in expectation) to the full light transport, and
 /// any average of sets does too; that is what lets interleaving give each pixel one set. The
 /// 1/d^2 clamp lives in connect(); nothing is clamped here. Walks end after `max_bounces`
-/// scattering events (a bias of at most q^max_bounces of the indirect light).
-/// Glossy lobes do not scatter particles (their energy ends the walk).
+/// scattering events (a bias: light reflected more often than that is missing, a fraction
+/// rho^(max_bounces + 1) of the total for albedo rho). Glossy lobes do not scatter particles
+/// (their energy ends the walk), and an alpha cut-out lets the particle through unchanged.
 
 #include <algorithm>
 #include <cmath>

@@ -36,6 +36,7 @@ namespace igi {
 /// What every tile of one frame shares.
 struct FrameContext {
   const Scene* scene = nullptr;       ///< The scene as of this frame.
+  const SceneGeometry* geometry = nullptr;  ///< The scene's instance matrices as of this frame.
   const PinholeProjection* projection = nullptr;  ///< Primary-ray generator.
   const VplSets* vpls = nullptr;      ///< This frame's VPL sets (S^2 of them).
   RenderSettings settings;            ///< Resolution, S, M, N, ...
@@ -205,7 +206,7 @@ class Pipeline {
     // Sponza's foliage stacks a few cut-out layers; 16 is far more than any pixel needs and bounds the loop.
     constexpr int max_cutout_layers = 16;
     packet.hit = packet.active & packet.hits.valid();
-    packet.surface = make_surface_hit(*frame.scene, packet.rays, packet.hits, packet.hit);
+    packet.surface = make_surface_hit(*frame.scene, *frame.geometry, packet.rays, packet.hits, packet.hit);
     packet.parameters = surface_->shade(packet.surface, packet.hit);
     for (int layer = 0; layer < max_cutout_layers; ++layer) {
       const vmask<W> pass = packet.hit & !packet.parameters.opaque;
@@ -220,7 +221,7 @@ class Pipeline {
       count += std::uint64_t(popcount(pass));
       const vmask<W> again = pass & packet.hits.valid();
       packet.hit = (packet.hit & !pass) | again;
-      const SurfaceHit<W> surface = make_surface_hit(*frame.scene, packet.rays, packet.hits, again);
+      const SurfaceHit<W> surface = make_surface_hit(*frame.scene, *frame.geometry, packet.rays, packet.hits, again);
       const BrdfParameters<W> parameters = surface_->shade(surface, again);
       assign(packet.surface, surface, again);
       assign(packet.parameters, parameters, again);

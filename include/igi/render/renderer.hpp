@@ -18,6 +18,7 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include "igi/render/float_mode.hpp"
 #include "igi/render/pipeline.hpp"
 
 namespace igi {
@@ -88,11 +89,16 @@ class Renderer {
     vpl_settings.frame = index;
     vpl_settings.seed = settings_.seed;
     vpl_settings.max_bounces = settings_.max_bounces;
-    const VplSets vpls = sampler_->generate(*scene_, *backend_, vpl_settings);
+    const VplSets vpls = [&] {
+      const FlushDenormals flush;
+      return sampler_->generate(*scene_, *backend_, vpl_settings);
+    }();
     const auto vpls_done = clock::now();
 
     FrameContext context;
     context.scene = scene_;
+    const SceneGeometry geometry(*scene_);
+    context.geometry = &geometry;
     const PinholeProjection projection(camera, settings_.width, settings_.height);
     context.projection = &projection;
     context.vpls = &vpls;
@@ -114,6 +120,7 @@ class Renderer {
       tbb::parallel_for(
           tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
           [&](const tbb::blocked_range<std::size_t>& range) {
+            const FlushDenormals flush;
             auto& work = workspaces_.local();
             for (std::size_t t = range.begin(); t != range.end(); ++t) {
               TileResult& result = work.result;

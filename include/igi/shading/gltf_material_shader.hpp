@@ -13,7 +13,9 @@
 ///   Beckmann lobe of width alpha = r^2, Walter et al. 2007), at least 1; below
 ///   `mirror_roughness` the lobe is narrower than VPL lighting can show and the specular part
 ///   becomes a perfect mirror instead;
-/// - transmission t (KHR_materials_transmission) and ior go to the dielectric (glass) BRDF;
+/// - transmission t (KHR_materials_transmission) applies to the dielectric part, so the glass
+///   weight is t x (1 - metallic), with the ior; diffuse + specular + glass weights then never
+///   exceed 1 per channel;
 /// - alphaMode MASK: opaque where alpha >= alphaCutoff; BLEND is rendered opaque;
 /// - emission = emissiveFactor x strength x emissive texture, on front faces (both faces if
 ///   the material is double-sided), matching how the light sampler emits;
@@ -53,7 +55,7 @@ inline ScalarBrdfParameters gltf_material_parameters(const Scene& scene, const M
     // Exponents above 1e4 are already mirror-like; the cap keeps pow() well away from overflow.
     p.shininess = std::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 1e4f);
   }
-  p.transmission = transmission;
+  p.transmission = transmission * (1.0f - metallic);
   p.ior = material.ior > 0.0f && std::isfinite(material.ior) ? material.ior : 1.5f;  // glTF's default ior
   p.normal = point.shading_normal;
   if (point.front_face || material.double_sided) {

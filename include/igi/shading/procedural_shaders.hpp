@@ -200,7 +200,7 @@ class BrickBumpShader {
     const vfloat<W> ax = abs(n.x), ay = abs(n.y), az = abs(n.z);
     // Dominant axis x: bricks in (z, y); dominant y (floors): bricks in (x, z); else (x, y).
     const vmask<W> dominant_x = (ax >= ay) & (ax >= az);
-    const vmask<W> dominant_y = !dominant_x & (ay >= az);
+    const vmask<W> dominant_y = (!dominant_x) & (ay >= az);
     const vmask<W> s_is_x = !dominant_x;
     const vmask<W> t_is_y = !dominant_y;
 

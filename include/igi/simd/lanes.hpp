@@ -4,6 +4,10 @@
 /// libstdc++'s `std::experimental::simd`. A packet of W lanes is an array of fixed-size chunks of
 /// at most 16 lanes (one AVX-512 register of floats), so W = 64 (SaarCOR's 8x8 packets) works
 /// although libstdc++ caps fixed-size simd at 32 lanes.
+///
+/// Every operation is `[[gnu::always_inline]]`: each is a handful of instructions on values of
+/// up to 256 bytes, and GCC's size heuristics otherwise leave some (dot, select) as calls with
+/// memory round trips in large shading functions, which measured 20% of a frame.
 
 #include <array>
 #include <cstdint>
@@ -61,44 +65,46 @@ class vmask {
   /// Lanes `0 .. count-1` on, the rest off: the mask of a partial packet.
   static vmask first(int count) noexcept {
     vmask m;
-    for (int i = 0; i < W; ++i) m.set(i, i < count);
+    for (int c = 0; c < chunks; ++c)
+      m.chunk_[c] = stdx::fixed_size_simd<float, chunk_size>([](auto i) { return float(i); }) <
+                    stdx::fixed_size_simd<float, chunk_size>(float(count - c * chunk_size));
     return m;
   }
   /// Lane `i`.
-  bool operator[](int i) const noexcept { return chunk_[i / chunk_size][i % chunk_size]; }
+  [[gnu::always_inline]] bool operator[](int i) const noexcept { return chunk_[i / chunk_size][i % chunk_size]; }
   /// Sets lane `i`.
-  void set(int i, bool value) noexcept { chunk_[i / chunk_size][i % chunk_size] = value; }
+  [[gnu::always_inline]] void set(int i, bool value) noexcept { chunk_[i / chunk_size][i % chunk_size] = value; }
   /// Chunk `c`.
-  const chunk_type& chunk(int c) const noexcept { return chunk_[c]; }
+  [[gnu::always_inline]] const chunk_type& chunk(int c) const noexcept { return chunk_[c]; }
   /// Chunk `c`, writable.
-  chunk_type& chunk(int c) noexcept { return chunk_[c]; }
+  [[gnu::always_inline]] chunk_type& chunk(int c) noexcept { return chunk_[c]; }
 
   /// Lane-wise and.
-  friend vmask operator&(vmask a, const vmask& b) noexcept { return a &= b; }
+  [[gnu::always_inline]] friend vmask operator&(vmask a, const vmask& b) noexcept { return a &= b; }
   /// Lane-wise or.
-  friend vmask operator|(vmask a, const vmask& b) noexcept { return a |= b; }
+  [[gnu::always_inline]] friend vmask operator|(vmask a, const vmask& b) noexcept { return a |= b; }
   /// Lane-wise exclusive or.
-  friend vmask operator^(vmask a, const vmask& b) noexcept {
+  [[gnu::always_inline]] friend vmask operator^(vmask a, const vmask& b) noexcept {
     for (int c = 0; c < chunks; ++c) a.chunk_[c] = a.chunk_[c] ^ b.chunk_[c];
     return a;
   }
   /// Lane-wise not.
-  friend vmask operator!(vmask a) noexcept {
+  [[gnu::always_inline]] friend vmask operator!(vmask a) noexcept {
     for (auto& c : a.chunk_) c = !c;
     return a;
   }
   /// Narrows to the lanes also in `b`.
-  vmask& operator&=(const vmask& b) noexcept {
+  [[gnu::always_inline]] vmask& operator&=(const vmask& b) noexcept {
     for (int c = 0; c < chunks; ++c) chunk_[c] = chunk_[c] && b.chunk_[c];
     return *this;
   }
   /// Widens by the lanes of `b`.
-  vmask& operator|=(const vmask& b) noexcept {
+  [[gnu::always_inline]] vmask& operator|=(const vmask& b) noexcept {
     for (int c = 0; c < chunks; ++c) chunk_[c] = chunk_[c] || b.chunk_[c];
     return *this;
   }
   /// Lanes equal in both masks.
-  friend bool operator==(const vmask& a, const vmask& b) noexcept {
+  [[gnu::always_inline]] friend bool operator==(const vmask& a, const vmask& b) noexcept {
     for (int c = 0; c < chunks; ++c)
       if (!stdx::all_of(a.chunk_[c] == b.chunk_[c])) return false;
     return true;
@@ -110,26 +116,26 @@ class vmask {
 
 /// True if any lane of `m` is on.
 template <int W>
-inline bool any(const vmask<W>& m) noexcept {
+[[gnu::always_inline]] inline bool any(const vmask<W>& m) noexcept {
   for (int c = 0; c < vmask<W>::chunks; ++c)
     if (stdx::any_of(m.chunk(c))) return true;
   return false;
 }
 /// True if every lane of `m` is on.
 template <int W>
-inline bool all(const vmask<W>& m) noexcept {
+[[gnu::always_inline]] inline bool all(const vmask<W>& m) noexcept {
   for (int c = 0; c < vmask<W>::chunks; ++c)
     if (!stdx::all_of(m.chunk(c))) return false;
   return true;
 }
 /// True if no lane of `m` is on.
 template <int W>
-inline bool none(const vmask<W>& m) noexcept {
+[[gnu::always_inline]] inline bool none(const vmask<W>& m) noexcept {
   return !any(m);
 }
 /// Number of lanes on.
 template <int W>
-inline int popcount(const vmask<W>& m) noexcept {
+[[gnu::always_inline]] inline int popcount(const vmask<W>& m) noexcept {
   int n = 0;
   for (int c = 0; c < vmask<W>::chunks; ++c) n += stdx::popcount(m.chunk(c));
   return n;
@@ -167,86 +173,86 @@ class lanes {
       chunk_[c] = chunk_type([&](auto i) { return static_cast<T>(generator(c * chunk_size + int(i))); });
   }
   /// Loads W consecutive values.
-  static lanes load(const T* source) noexcept {
+  [[gnu::always_inline]] static lanes load(const T* source) noexcept {
     lanes v;
     for (int c = 0; c < chunks; ++c) v.chunk_[c].copy_from(source + c * chunk_size, stdx::element_aligned);
     return v;
   }
   /// Stores W consecutive values.
-  void store(T* target) const noexcept {
+  [[gnu::always_inline]] void store(T* target) const noexcept {
     for (int c = 0; c < chunks; ++c) chunk_[c].copy_to(target + c * chunk_size, stdx::element_aligned);
   }
   /// Lane `i`.
-  T operator[](int i) const noexcept { return chunk_[i / chunk_size][i % chunk_size]; }
+  [[gnu::always_inline]] T operator[](int i) const noexcept { return chunk_[i / chunk_size][i % chunk_size]; }
   /// Sets lane `i`.
-  void set(int i, T value) noexcept { chunk_[i / chunk_size][i % chunk_size] = value; }
+  [[gnu::always_inline]] void set(int i, T value) noexcept { chunk_[i / chunk_size][i % chunk_size] = value; }
   /// Chunk `c`.
-  const chunk_type& chunk(int c) const noexcept { return chunk_[c]; }
+  [[gnu::always_inline]] const chunk_type& chunk(int c) const noexcept { return chunk_[c]; }
   /// Chunk `c`, writable.
-  chunk_type& chunk(int c) noexcept { return chunk_[c]; }
+  [[gnu::always_inline]] chunk_type& chunk(int c) noexcept { return chunk_[c]; }
 
   /// Sets the lanes of `mask` to `value`, leaves the others.
-  void assign(const lanes& value, const vmask<W>& mask) noexcept {
+  [[gnu::always_inline]] void assign(const lanes& value, const vmask<W>& mask) noexcept {
     for (int c = 0; c < chunks; ++c) stdx::where(mask.chunk(c), chunk_[c]) = value.chunk_[c];
   }
 
   /// Applies `op` chunk by chunk: the one loop all lane-wise operations go through.
   template <class F>
-  friend lanes lanewise(const lanes& a, F&& op) noexcept {
+  [[gnu::always_inline]] friend lanes lanewise(const lanes& a, F&& op) noexcept {
     lanes r;
     for (int c = 0; c < chunks; ++c) r.chunk_[c] = op(a.chunk_[c]);
     return r;
   }
   /// Applies `op` chunk by chunk to two packets.
   template <class F>
-  friend lanes lanewise(const lanes& a, const lanes& b, F&& op) noexcept {
+  [[gnu::always_inline]] friend lanes lanewise(const lanes& a, const lanes& b, F&& op) noexcept {
     lanes r;
     for (int c = 0; c < chunks; ++c) r.chunk_[c] = op(a.chunk_[c], b.chunk_[c]);
     return r;
   }
   /// Compares chunk by chunk into a mask.
   template <class F>
-  friend vmask<W> compare(const lanes& a, const lanes& b, F&& op) noexcept {
+  [[gnu::always_inline]] friend vmask<W> compare(const lanes& a, const lanes& b, F&& op) noexcept {
     vmask<W> m;
     for (int c = 0; c < chunks; ++c) m.chunk(c) = op(a.chunk_[c], b.chunk_[c]);
     return m;
   }
 
-  friend lanes operator+(const lanes& a, const lanes& b) noexcept { return lanewise(a, b, std::plus<>{}); }
-  friend lanes operator-(const lanes& a, const lanes& b) noexcept { return lanewise(a, b, std::minus<>{}); }
-  friend lanes operator*(const lanes& a, const lanes& b) noexcept { return lanewise(a, b, std::multiplies<>{}); }
-  friend lanes operator/(const lanes& a, const lanes& b) noexcept { return lanewise(a, b, std::divides<>{}); }
-  friend lanes operator-(const lanes& a) noexcept { return lanewise(a, std::negate<>{}); }
-  lanes& operator+=(const lanes& b) noexcept { return *this = *this + b; }
-  lanes& operator-=(const lanes& b) noexcept { return *this = *this - b; }
-  lanes& operator*=(const lanes& b) noexcept { return *this = *this * b; }
-  lanes& operator/=(const lanes& b) noexcept { return *this = *this / b; }
+  [[gnu::always_inline]] friend lanes operator+(const lanes& a, const lanes& b) noexcept { return lanewise(a, b, std::plus<>{}); }
+  [[gnu::always_inline]] friend lanes operator-(const lanes& a, const lanes& b) noexcept { return lanewise(a, b, std::minus<>{}); }
+  [[gnu::always_inline]] friend lanes operator*(const lanes& a, const lanes& b) noexcept { return lanewise(a, b, std::multiplies<>{}); }
+  [[gnu::always_inline]] friend lanes operator/(const lanes& a, const lanes& b) noexcept { return lanewise(a, b, std::divides<>{}); }
+  [[gnu::always_inline]] friend lanes operator-(const lanes& a) noexcept { return lanewise(a, std::negate<>{}); }
+  [[gnu::always_inline]] lanes& operator+=(const lanes& b) noexcept { return *this = *this + b; }
+  [[gnu::always_inline]] lanes& operator-=(const lanes& b) noexcept { return *this = *this - b; }
+  [[gnu::always_inline]] lanes& operator*=(const lanes& b) noexcept { return *this = *this * b; }
+  [[gnu::always_inline]] lanes& operator/=(const lanes& b) noexcept { return *this = *this / b; }
 
-  friend lanes operator&(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
+  [[gnu::always_inline]] friend lanes operator&(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
     return lanewise(a, b, std::bit_and<>{});
   }
-  friend lanes operator|(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
+  [[gnu::always_inline]] friend lanes operator|(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
     return lanewise(a, b, std::bit_or<>{});
   }
-  friend lanes operator^(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
+  [[gnu::always_inline]] friend lanes operator^(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
     return lanewise(a, b, std::bit_xor<>{});
   }
-  friend lanes operator<<(const lanes& a, int bits) noexcept requires std::is_integral_v<T> {
+  [[gnu::always_inline]] friend lanes operator<<(const lanes& a, int bits) noexcept requires std::is_integral_v<T> {
     return lanewise(a, [bits](const chunk_type& x) { return x << bits; });
   }
-  friend lanes operator>>(const lanes& a, int bits) noexcept requires std::is_integral_v<T> {
+  [[gnu::always_inline]] friend lanes operator>>(const lanes& a, int bits) noexcept requires std::is_integral_v<T> {
     return lanewise(a, [bits](const chunk_type& x) { return x >> bits; });
   }
-  friend lanes operator%(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
+  [[gnu::always_inline]] friend lanes operator%(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
     return lanewise(a, b, std::modulus<>{});
   }
 
-  friend vmask<W> operator<(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::less<>{}); }
-  friend vmask<W> operator<=(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::less_equal<>{}); }
-  friend vmask<W> operator>(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::greater<>{}); }
-  friend vmask<W> operator>=(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::greater_equal<>{}); }
-  friend vmask<W> operator==(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::equal_to<>{}); }
-  friend vmask<W> operator!=(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::not_equal_to<>{}); }
+  [[gnu::always_inline]] friend vmask<W> operator<(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::less<>{}); }
+  [[gnu::always_inline]] friend vmask<W> operator<=(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::less_equal<>{}); }
+  [[gnu::always_inline]] friend vmask<W> operator>(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::greater<>{}); }
+  [[gnu::always_inline]] friend vmask<W> operator>=(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::greater_equal<>{}); }
+  [[gnu::always_inline]] friend vmask<W> operator==(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::equal_to<>{}); }
+  [[gnu::always_inline]] friend vmask<W> operator!=(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::not_equal_to<>{}); }
 
  private:
   std::array<chunk_type, chunks> chunk_;
@@ -264,74 +270,74 @@ using vuint = lanes<std::uint32_t, W>;
 
 /// `a` where `mask` is on, else `b`.
 template <class T, int W>
-inline lanes<T, W> select(const vmask<W>& mask, const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
+[[gnu::always_inline]] inline lanes<T, W> select(const vmask<W>& mask, const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
   lanes<T, W> r = b;
   r.assign(a, mask);
   return r;
 }
 /// `value` on the lanes of `mask`, zero elsewhere: how inactive lanes yield zeros.
 template <class T, int W>
-inline lanes<T, W> keep(const lanes<T, W>& value, const vmask<W>& mask) noexcept {
+[[gnu::always_inline]] inline lanes<T, W> keep(const lanes<T, W>& value, const vmask<W>& mask) noexcept {
   return select(mask, value, lanes<T, W>(T(0)));
 }
 /// Lane-wise minimum.
 template <class T, int W>
-inline lanes<T, W> min(const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
+[[gnu::always_inline]] inline lanes<T, W> min(const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
   return lanewise(a, b, [](const auto& x, const auto& y) { return stdx::min(x, y); });
 }
 /// Lane-wise maximum.
 template <class T, int W>
-inline lanes<T, W> max(const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
+[[gnu::always_inline]] inline lanes<T, W> max(const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
   return lanewise(a, b, [](const auto& x, const auto& y) { return stdx::max(x, y); });
 }
 /// `value` limited to `[low, high]`.
 template <class T, int W>
-inline lanes<T, W> clamp(const lanes<T, W>& value, const lanes<T, W>& low, const lanes<T, W>& high) noexcept {
+[[gnu::always_inline]] inline lanes<T, W> clamp(const lanes<T, W>& value, const lanes<T, W>& low, const lanes<T, W>& high) noexcept {
   return min(max(value, low), high);
 }
 /// Lane-wise absolute value.
 template <class T, int W>
-inline lanes<T, W> abs(const lanes<T, W>& a) noexcept {
+[[gnu::always_inline]] inline lanes<T, W> abs(const lanes<T, W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::abs(x); });
 }
 /// Lane-wise square root.
 template <int W>
-inline vfloat<W> sqrt(const vfloat<W>& a) noexcept {
+[[gnu::always_inline]] inline vfloat<W> sqrt(const vfloat<W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::sqrt(x); });
 }
 /// Lane-wise floor.
 template <int W>
-inline vfloat<W> floor(const vfloat<W>& a) noexcept {
+[[gnu::always_inline]] inline vfloat<W> floor(const vfloat<W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::floor(x); });
 }
 /// Lane-wise e^x.
 template <int W>
-inline vfloat<W> exp(const vfloat<W>& a) noexcept {
+[[gnu::always_inline]] inline vfloat<W> exp(const vfloat<W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::exp(x); });
 }
 /// Lane-wise natural logarithm.
 template <int W>
-inline vfloat<W> log(const vfloat<W>& a) noexcept {
+[[gnu::always_inline]] inline vfloat<W> log(const vfloat<W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::log(x); });
 }
 /// Lane-wise sine.
 template <int W>
-inline vfloat<W> sin(const vfloat<W>& a) noexcept {
+[[gnu::always_inline]] inline vfloat<W> sin(const vfloat<W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::sin(x); });
 }
 /// Lane-wise cosine.
 template <int W>
-inline vfloat<W> cos(const vfloat<W>& a) noexcept {
+[[gnu::always_inline]] inline vfloat<W> cos(const vfloat<W>& a) noexcept {
   return lanewise(a, [](const auto& x) { return stdx::cos(x); });
 }
 /// Lane-wise base^exponent (base >= 0).
 template <int W>
-inline vfloat<W> pow(const vfloat<W>& base, const vfloat<W>& exponent) noexcept {
+[[gnu::always_inline]] inline vfloat<W> pow(const vfloat<W>& base, const vfloat<W>& exponent) noexcept {
   return lanewise(base, exponent, [](const auto& x, const auto& y) { return stdx::pow(x, y); });
 }
 /// True where a lane is neither NaN nor infinite.
 template <int W>
-inline vmask<W> isfinite(const vfloat<W>& a) noexcept {
+[[gnu::always_inline]] inline vmask<W> isfinite(const vfloat<W>& a) noexcept {
   vmask<W> m;
   for (int c = 0; c < vfloat<W>::chunks; ++c) m.chunk(c) = stdx::isfinite(a.chunk(c));
   return m;
@@ -339,7 +345,7 @@ inline vmask<W> isfinite(const vfloat<W>& a) noexcept {
 
 /// Converts lane types with C++ rules (float to int truncates towards zero).
 template <class To, class From, int W>
-inline lanes<To, W> convert(const lanes<From, W>& a) noexcept {
+[[gnu::always_inline]] inline lanes<To, W> convert(const lanes<From, W>& a) noexcept {
   lanes<To, W> r;
   for (int c = 0; c < lanes<To, W>::chunks; ++c)
     r.chunk(c) = stdx::static_simd_cast<typename lanes<To, W>::chunk_type>(a.chunk(c));
@@ -348,7 +354,7 @@ inline lanes<To, W> convert(const lanes<From, W>& a) noexcept {
 /// Reinterprets the bits of each lane (float <-> uint32 for hashing).
 template <class To, class From, int W>
   requires(sizeof(To) == sizeof(From))
-inline lanes<To, W> bit_cast(const lanes<From, W>& a) noexcept {
+[[gnu::always_inline]] inline lanes<To, W> bit_cast(const lanes<From, W>& a) noexcept {
   lanes<To, W> r;
   for (int c = 0; c < lanes<To, W>::chunks; ++c)
     r.chunk(c) = stdx::__proposed::simd_bit_cast<typename lanes<To, W>::chunk_type>(a.chunk(c));
@@ -357,26 +363,26 @@ inline lanes<To, W> bit_cast(const lanes<From, W>& a) noexcept {
 
 /// Sum of all lanes.
 template <class T, int W>
-inline T reduce_add(const lanes<T, W>& a) noexcept {
+[[gnu::always_inline]] inline T reduce_add(const lanes<T, W>& a) noexcept {
   T sum = 0;
   for (int c = 0; c < lanes<T, W>::chunks; ++c) sum += stdx::reduce(a.chunk(c));
   return sum;
 }
 /// Sum of the lanes of `mask` (zero when none is on).
 template <class T, int W>
-inline T reduce_add(const lanes<T, W>& a, const vmask<W>& mask) noexcept {
+[[gnu::always_inline]] inline T reduce_add(const lanes<T, W>& a, const vmask<W>& mask) noexcept {
   return reduce_add(keep(a, mask));
 }
 /// Smallest lane.
 template <class T, int W>
-inline T reduce_min(const lanes<T, W>& a) noexcept {
+[[gnu::always_inline]] inline T reduce_min(const lanes<T, W>& a) noexcept {
   T m = stdx::hmin(a.chunk(0));
   for (int c = 1; c < lanes<T, W>::chunks; ++c) m = std::min(m, T(stdx::hmin(a.chunk(c))));
   return m;
 }
 /// Largest lane.
 template <class T, int W>
-inline T reduce_max(const lanes<T, W>& a) noexcept {
+[[gnu::always_inline]] inline T reduce_max(const lanes<T, W>& a) noexcept {
   T m = stdx::hmax(a.chunk(0));
   for (int c = 1; c < lanes<T, W>::chunks; ++c) m = std::max(m, T(stdx::hmax(a.chunk(c))));
   return m;
@@ -395,24 +401,24 @@ inline constexpr T max_identity =
 
 /// Smallest lane of `mask` (+infinity for float, the largest value for integers, when none is on).
 template <class T, int W>
-inline T reduce_min(const lanes<T, W>& a, const vmask<W>& mask) noexcept {
+[[gnu::always_inline]] inline T reduce_min(const lanes<T, W>& a, const vmask<W>& mask) noexcept {
   return reduce_min(select(mask, a, lanes<T, W>(detail::min_identity<T>)));
 }
 /// Largest lane of `mask` (-infinity for float, the lowest value for integers, when none is on).
 template <class T, int W>
-inline T reduce_max(const lanes<T, W>& a, const vmask<W>& mask) noexcept {
+[[gnu::always_inline]] inline T reduce_max(const lanes<T, W>& a, const vmask<W>& mask) noexcept {
   return reduce_max(select(mask, a, lanes<T, W>(detail::max_identity<T>)));
 }
 
 /// `base[index[i]]` on the lanes of `mask`, zero elsewhere (inactive indices are never read).
 template <class T, int W>
-inline lanes<T, W> gather(const T* base, const vint<W>& index, const vmask<W>& mask) noexcept {
+[[gnu::always_inline]] inline lanes<T, W> gather(const T* base, const vint<W>& index, const vmask<W>& mask) noexcept {
   return lanes<T, W>([&](int i) { return mask[i] ? base[index[i]] : T(0); });
 }
 
 /// Lane indices 0, 1, ..., W-1.
 template <int W>
-inline vint<W> lane_index() noexcept {
+[[gnu::always_inline]] inline vint<W> lane_index() noexcept {
   return vint<W>([](int i) { return i; });
 }
 

@@ -24,6 +24,8 @@
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
 
+#include "igi/backends/backend.hpp"
+#include "igi/backends/coherence.hpp"
 #include "igi/backends/packet.hpp"
 #include "igi/backends/world_triangles.hpp"
 #include "igi/scene/scene.hpp"
@@ -55,21 +57,25 @@ inline const char* embree_error_name(RTCError code) noexcept {
 /// Embree's packet types for each width.
 template <int W>
 struct EmbreePacketTypes;
+/// Width 1: Embree's single ray.
 template <>
 struct EmbreePacketTypes<1> {
   using Ray = RTCRay;        ///< Ray.
   using RayHit = RTCRayHit;  ///< Ray and hit.
 };
+/// Width 4.
 template <>
 struct EmbreePacketTypes<4> {
   using Ray = RTCRay4;        ///< Ray packet.
   using RayHit = RTCRayHit4;  ///< Ray and hit packet.
 };
+/// Width 8.
 template <>
 struct EmbreePacketTypes<8> {
   using Ray = RTCRay8;        ///< Ray packet.
   using RayHit = RTCRayHit8;  ///< Ray and hit packet.
 };
+/// Width 16.
 template <>
 struct EmbreePacketTypes<16> {
   using Ray = RTCRay16;        ///< Ray packet.
@@ -147,7 +153,9 @@ class EmbreeBackend {
   EmbreeBackend(EmbreeBackend&&) noexcept = default;
   /// Moves a backend; the source is left empty.
   EmbreeBackend& operator=(EmbreeBackend&&) noexcept = default;
+  /// Not copyable: it owns Embree objects.
   EmbreeBackend(const EmbreeBackend&) = delete;
+  /// Not copyable: it owns Embree objects.
   EmbreeBackend& operator=(const EmbreeBackend&) = delete;
   /// Releases every Embree object.
   ~EmbreeBackend() = default;
@@ -157,14 +165,28 @@ class EmbreeBackend {
   template <int N>
     requires(N == W || N == 1)
   void intersect(RayPacket<N>& rays, HitPacket<N>& hits, const vmask<N>& mask) const {
-    trace_closest<N>(state_->top, rays, hits, mask);
+    trace_closest<N>(state_->top, rays, hits, Coherence::coherent, mask);
+  }
+
+  /// intersect() with Embree's coherence flag chosen by the caller (incoherent for bounce rays).
+  template <int N>
+    requires(N == W || N == 1)
+  void intersect(RayPacket<N>& rays, HitPacket<N>& hits, Coherence coherence, const vmask<N>& mask) const {
+    trace_closest<N>(state_->top, rays, hits, coherence, mask);
   }
 
   /// Lanes of `mask` whose interval [tnear, tfar] is blocked; Embree sets their tfar to -inf.
   template <int N>
     requires(N == W || N == 1)
   vmask<N> occluded(RayPacket<N>& rays, const vmask<N>& mask) const {
-    return trace_any<N>(state_->top, rays, mask);
+    return trace_any<N>(state_->top, rays, Coherence::coherent, mask);
+  }
+
+  /// occluded() with Embree's coherence flag chosen by the caller.
+  template <int N>
+    requires(N == W || N == 1)
+  vmask<N> occluded(RayPacket<N>& rays, Coherence coherence, const vmask<N>& mask) const {
+    return trace_any<N>(state_->top, rays, coherence, mask);
   }
 
   /// Moves instance `index`; the top level is re-committed at commit().
@@ -344,16 +366,18 @@ class EmbreeBackend {
   }
 
   template <int N>
-  static RTCIntersectContext context() noexcept {
+  static RTCIntersectContext context(Coherence coherence) noexcept {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    // Packets come from neighbouring pixels or share an end point: Embree's coherent mode.
-    context.flags = N > 1 ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    // Packets are coherent unless the caller says otherwise; a single ray has nothing to share.
+    context.flags = N > 1 && coherence == Coherence::coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+                                                              : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     return context;
   }
 
   template <int N>
-  static void trace_closest(RTCScene top, RayPacket<N>& rays, HitPacket<N>& hits, const vmask<N>& mask) {
+  static void trace_closest(RTCScene top, RayPacket<N>& rays, HitPacket<N>& hits, Coherence coherence,
+                            const vmask<N>& mask) {
     using EmbreeRay = typename detail::EmbreePacketTypes<N>::Ray;
     using EmbreeRayHit = typename detail::EmbreePacketTypes<N>::RayHit;
     // Embree wants ray and hit adjacent; ours are separate objects, so the ray block (laid out as
@@ -365,7 +389,7 @@ class EmbreeBackend {
       hit_lanes->geomID[lane] = hit_lanes->primID[lane] = hit_lanes->instID[lane] = invalid_id;
       hit_lanes->Ng_x[lane] = hit_lanes->Ng_y[lane] = hit_lanes->Ng_z[lane] = hit_lanes->u[lane] = hit_lanes->v[lane] = 0.0f;
     }
-    RTCIntersectContext ctx = context<N>();
+    RTCIntersectContext ctx = context<N>(coherence);
     const ValidLanes<N> valid = valid_lanes(rays, mask);
     if constexpr (N == 1) {
       if (valid[0]) rtcIntersect1(top, &ctx, &both);
@@ -392,9 +416,9 @@ class EmbreeBackend {
   }
 
   template <int N>
-  static vmask<N> trace_any(RTCScene top, RayPacket<N>& rays, const vmask<N>& mask) {
+  static vmask<N> trace_any(RTCScene top, RayPacket<N>& rays, Coherence coherence, const vmask<N>& mask) {
     using EmbreeRay = typename detail::EmbreePacketTypes<N>::Ray;
-    RTCIntersectContext ctx = context<N>();
+    RTCIntersectContext ctx = context<N>(coherence);
     const ValidLanes<N> valid = valid_lanes(rays, mask);
     // Occlusion needs no hit record: Embree reads and writes the packet in place.
     auto* embree_rays = reinterpret_cast<EmbreeRay*>(&rays);
@@ -415,5 +439,7 @@ class EmbreeBackend {
 
   std::unique_ptr<State> state_;  ///< Embree objects.
 };
+
+static_assert(Backend<EmbreeBackend<1>> && Backend<EmbreeBackend<4>> && Backend<EmbreeBackend<8>> && Backend<EmbreeBackend<16>>);
 
 }  // namespace igi

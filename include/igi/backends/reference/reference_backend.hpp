@@ -14,6 +14,8 @@
 
 #include <glm/glm.hpp>
 
+#include "igi/backends/backend.hpp"
+#include "igi/backends/coherence.hpp"
 #include "igi/backends/packet.hpp"
 #include "igi/backends/world_triangles.hpp"
 #include "igi/scene/scene.hpp"
@@ -81,6 +83,20 @@ class ReferenceBackend {
       rays.tfar[lane] = -std::numeric_limits<float>::infinity();
     }
     return blocked;
+  }
+
+  /// intersect() with a coherence hint, which this backend does not need (same result).
+  template <int N>
+    requires(N == W || N == 1)
+  void intersect(RayPacket<N>& rays, HitPacket<N>& hits, Coherence, const vmask<N>& mask) const noexcept {
+    intersect(rays, hits, mask);
+  }
+
+  /// occluded() with a coherence hint, which this backend does not need (same result).
+  template <int N>
+    requires(N == W || N == 1)
+  vmask<N> occluded(RayPacket<N>& rays, Coherence, const vmask<N>& mask) const noexcept {
+    return occluded(rays, mask);
   }
 
   /// Moves instance `index`; takes effect at commit().
@@ -222,5 +238,7 @@ class ReferenceBackend {
   std::vector<WorldTriangle> triangles_;  ///< World triangles in leaf order.
   std::vector<Node> nodes_;              ///< Node 0 is the root.
 };
+
+static_assert(Backend<ReferenceBackend<1>> && Backend<ReferenceBackend<8>> && Backend<ReferenceBackend<64>>);
 
 }  // namespace igi

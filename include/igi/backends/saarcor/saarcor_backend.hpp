@@ -21,6 +21,8 @@
 
 #include <glm/glm.hpp>
 
+#include "igi/backends/backend.hpp"
+#include "igi/backends/coherence.hpp"
 #include "igi/backends/packet.hpp"
 #include "igi/backends/world_triangles.hpp"
 #include "igi/scene/scene.hpp"
@@ -68,7 +70,9 @@ class SaarcorBackend {
     build();
   }
 
+  /// Not copyable: the counters are atomics shared by tracing threads.
   SaarcorBackend(const SaarcorBackend&) = delete;
+  /// Not copyable: the counters are atomics shared by tracing threads.
   SaarcorBackend& operator=(const SaarcorBackend&) = delete;
 
   /// Closest hit of the rays in `mask`: hit lanes get tfar = distance, world-space Ng and ids,
@@ -84,6 +88,20 @@ class SaarcorBackend {
     requires(N == width || N == 1)
   vmask<N> occluded(RayPacket<N>& rays, const vmask<N>& mask) const noexcept {
     return trace<N, true>(rays, nullptr, mask);
+  }
+
+  /// intersect() with a coherence hint, which this backend does not need (same result).
+  template <int N>
+    requires(N == width || N == 1)
+  void intersect(RayPacket<N>& rays, HitPacket<N>& hits, Coherence, const vmask<N>& mask) const noexcept {
+    intersect(rays, hits, mask);
+  }
+
+  /// occluded() with a coherence hint, which this backend does not need (same result).
+  template <int N>
+    requires(N == width || N == 1)
+  vmask<N> occluded(RayPacket<N>& rays, Coherence, const vmask<N>& mask) const noexcept {
+    return occluded(rays, mask);
   }
 
   /// Moves instance `index`; the tree is rebuilt at commit().
@@ -491,5 +509,7 @@ class SaarcorBackend {
   int depth_ = 0;                         ///< Deepest leaf.
   mutable Counters counters_;             ///< Hardware counters.
 };
+
+static_assert(Backend<SaarcorBackend>);
 
 }  // namespace igi

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Independent check of igi's reference path tracer against Mitsuba 3 on the Cornell box glTF.
+# Not part of CI: it installs Mitsuba 3 from PyPI into its own virtual environment.
+#
+# usage: bench/accuracy/mitsuba_compare.sh BUILD_DIR [SIZE] [SPP]
+#   BUILD_DIR holds the built igi-path-render and igi-compare (e.g. build/native).
+# Renders both at SIZE x SIZE (default 128) and SPP samples per pixel (default 256), two seeds
+# each, and prints igi-compare's metrics for igi against Mitsuba next to each renderer against
+# itself (two seeds): if both converge to the same image, RMSE(igi, mitsuba)^2 is about the mean
+# of the two self-RMSE^2 (all three are differences of two independent noisy estimates).
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+build="$(cd "${1:?usage: mitsuba_compare.sh BUILD_DIR [SIZE] [SPP]}" && pwd)"
+size="${2:-128}"
+spp="${3:-256}"
+scene="$root/../shared/scenes/cornell/cornell_box.gltf"
+work="${MITSUBA_WORK:-$build/mitsuba_compare}"
+venv="$work/venv"
+mkdir -p "$work"
+
+if [ ! -x "$venv/bin/python" ]; then
+  python3 -m venv "$venv"
+  "$venv/bin/pip" install --quiet mitsuba numpy
+fi
+"$venv/bin/python" -c "import mitsuba; print('mitsuba', mitsuba.__version__)"
+
+path_render="$(find "$build" -name igi-path-render -type f -perm -u+x | head -n 1)"
+compare="$(find "$build" -name igi-compare -type f -perm -u+x | head -n 1)"
+[ -n "$path_render" ] && [ -n "$compare" ] || { echo "build igi-path-render and igi-compare in $build first" >&2; exit 1; }
+
+time "$venv/bin/python" "$here/mitsuba_compare.py" "$scene" "$work/mitsuba_" "$size" "$size" "$spp" 0 1
+for seed in 0 1; do
+  time "$path_render" "$scene" -o "$work/igi_$seed.exr" --size "${size}x${size}" --spp "$spp" --seed "$seed"
+done
+
+echo "== igi vs mitsuba (seed 0 each, then seed 1 each)"
+"$compare" --json "$work/mitsuba_0.exr" "$work/igi_0.exr"
+"$compare" --json "$work/mitsuba_1.exr" "$work/igi_1.exr"
+echo "== mitsuba vs mitsuba (noise of two Mitsuba estimates)"
+"$compare" --json "$work/mitsuba_0.exr" "$work/mitsuba_1.exr"
+echo "== igi vs igi (noise of two igi estimates)"
+"$compare" --json "$work/igi_0.exr" "$work/igi_1.exr"
+echo "== means and low-pass (igi - mitsuba in units of its standard error; about 1 if they agree)"
+"$venv/bin/pip" show numpy > /dev/null 2>&1 || "$venv/bin/pip" install --quiet numpy
+"$venv/bin/python" "$here/mitsuba_stats.py" "$work"

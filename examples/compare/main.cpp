@@ -1,0 +1,75 @@
+// igi-compare REF TEST: error metrics of an image against a reference (RMSE, relMSE, SSIM).
+// Exit codes: 0 compared, 1 the images cannot be compared (unreadable, different sizes, not
+// finite), 2 usage error. Errors are one line on stderr.
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "igi/io/image.hpp"
+#include "igi/io/metrics.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"igi-compare: RMSE, relMSE and SSIM of TEST against the reference REF (PNG, EXR or PFM)"};
+  std::string reference_path, test_path;
+  bool json = false, ignore_brightest = false;
+  app.add_option("REF", reference_path, "Reference image")->required();
+  app.add_option("TEST", test_path, "Image to measure")->required();
+  app.add_flag("--json", json, "Print one JSON object instead of text");
+  app.add_flag("--ignore-brightest", ignore_brightest, "relMSE without the brightest 0.1% of reference pixels");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& help) {
+    return app.exit(help);
+  } catch (const CLI::ParseError& error) {
+    std::cerr << "igi-compare: " << error.what() << " (see --help)\n";
+    return 2;
+  }
+  try {
+    const igi::Image reference = igi::read_image(reference_path);
+    const igi::Image test = igi::read_image(test_path);
+    if (reference.width != test.width || reference.height != test.height)
+      throw std::invalid_argument("images differ in size: " + reference_path + " is " + std::to_string(reference.width) +
+                                  "x" + std::to_string(reference.height) + ", " + test_path + " is " +
+                                  std::to_string(test.width) + "x" + std::to_string(test.height));
+    igi::RelMseOptions options;
+    options.ignore_brightest = ignore_brightest;
+    const double rmse = igi::rmse(test, reference);
+    const double relmse = igi::relmse(test, reference, options);
+    // SSIM's 11 x 11 window needs images at least that large; smaller ones get the 8 x 8 box
+    // window when they fit it, and no SSIM otherwise.
+    const bool gaussian_fits = test.width >= 11 && test.height >= 11;
+    const bool box_fits = test.width >= 8 && test.height >= 8;
+    const double ssim = gaussian_fits ? igi::ssim(test, reference)
+                        : box_fits    ? igi::ssim(test, reference, igi::SsimWindow::box8)
+                                      : std::nan("");
+    if (json) {
+      nlohmann::json out;
+      out["reference"] = reference_path;
+      out["test"] = test_path;
+      out["width"] = test.width;
+      out["height"] = test.height;
+      out["rmse"] = rmse;
+      out["relmse"] = relmse;
+      out["relmse_epsilon"] = options.epsilon;
+      out["relmse_ignore_brightest"] = ignore_brightest;
+      if (box_fits) out["ssim"] = ssim;
+      else out["ssim"] = nullptr;
+      std::cout << out.dump() << "\n";
+    } else {
+      std::printf("RMSE   %.6g\nrelMSE %.6g\nSSIM   ", rmse, relmse);
+      if (box_fits) std::printf("%.6g\n", ssim);
+      else std::printf("n/a (images smaller than 8x8)\n");
+    }
+    return 0;
+  } catch (const std::exception& error) {
+    std::string message = error.what();
+    for (char& c : message)
+      if (c == '\n' || c == '\r') c = ' ';  // one line, whatever the library said
+    std::cerr << "igi-compare: " << message << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,130 @@
+// igi-procedural: the paper's Figure 3. A Shirley-style room with marble, wood and brick-bump
+// procedural shaders and an animated ceiling lamp, rendered for a number of frames with the
+// procedural shaders and with constant diffuse materials; prints the frame rate of each (the
+// paper: 3.7 fps procedural vs 4.5 fps constant, on its cluster) and writes the images.
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "igi/backends/embree/embree_backend.hpp"
+#include "igi/filters/tile_filters.hpp"
+#include "igi/io/image.hpp"
+#include "igi/lighting/qmc_vpl_sampler.hpp"
+#include "igi/render/renderer.hpp"
+#include "igi/shading/brdf_shaders.hpp"
+
+#include "procedural_room.hpp"
+
+namespace {
+
+using RoomRenderer = igi::Renderer<igi::EmbreeBackend<16>, igi_procedural::RoomShader, igi::StandardBrdf,
+                                   igi::QmcVplSampler, igi::DiscontinuityFilter>;
+
+/// A usage error: exit code 2 with a one-line message.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// The median of some values.
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+/// Frames per second at a frame time of `milliseconds`.
+double fps(double milliseconds) { return milliseconds > 0.0 ? 1000.0 / milliseconds : 0.0; }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string size = "640x480";
+  std::string output = "procedural_room.png";
+  std::string constant_output;
+  int frames = 8;
+  igi::RenderSettings settings;
+  CLI::App app{"igi-procedural: the paper's Figure 3, procedural shading in a globally illuminated room"};
+  app.add_option("--size", size, "image size WIDTHxHEIGHT")->capture_default_str();
+  app.add_option("--frames", frames, "frames per shading mode (the lamp moves every frame)")->check(CLI::Range(1, 100000))->capture_default_str();
+  app.add_option("-o,--output", output, "image of the last procedural frame (.png, .exr or .pfm)")->capture_default_str();
+  app.add_option("--constant-output", constant_output, "image of the last constant-diffuse frame (default: none)");
+  app.add_option("--vpls", settings.vpls_per_pixel, "VPLs per pixel (M)")->capture_default_str();
+  app.add_option("--interleave", settings.interleave, "interleaving pattern size S")->capture_default_str();
+  app.add_option("--aa", settings.antialiasing, "primary rays per pixel N")->capture_default_str();
+  app.add_option("--threads", settings.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "igi-procedural: " << e.what() << "\n";
+    return 2;
+  }
+  try {
+    int width = 0, height = 0;
+    char x = 0, rest = 0;
+    if (std::sscanf(size.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || (x != 'x' && x != 'X'))
+      throw UsageError("--size: '" + size + "' is not WIDTHxHEIGHT");
+    settings.width = width;
+    settings.height = height;
+    igi::validate(settings);
+    igi::image_format(output);  // throws on an extension it cannot write, before any rendering
+    if (!constant_output.empty()) igi::image_format(constant_output);
+  } catch (const std::exception& e) {
+    std::cerr << "igi-procedural: " << e.what() << "\n";
+    return 2;
+  }
+  try {
+    igi::Scene scene = igi_procedural::procedural_room();
+    const igi::Camera camera = scene.cameras.front();
+    const int lamp = igi_procedural::lamp_instance(scene);
+    const glm::mat4 lamp_start = scene.instances[std::size_t(lamp)].transform;
+    const igi_procedural::RoomShader procedural(scene, igi_procedural::RoomShader::Mode::procedural);
+    const igi_procedural::RoomShader constant(scene, igi_procedural::RoomShader::Mode::constant);
+    const igi::StandardBrdf brdf;
+    const igi::QmcVplSampler sampler;
+    const igi::DiscontinuityFilter filter;
+    RoomRenderer procedural_renderer(scene, settings, procedural, brdf, sampler, filter);
+    RoomRenderer constant_renderer(scene, settings, constant, brdf, sampler, filter);
+
+    // The two modes take turns frame by frame, so a change in the machine's load hits both alike.
+    std::vector<double> procedural_ms, constant_ms;
+    igi::Frame procedural_frame, constant_frame;
+    for (int f = 0; f < frames; ++f) {
+      const glm::mat4 lamp_now = igi_procedural::lamp_transform(std::uint32_t(f)) * lamp_start;
+      procedural_renderer.set_instance_transform(lamp, lamp_now);
+      constant_renderer.set_instance_transform(lamp, lamp_now);
+      procedural_frame = procedural_renderer.render(camera, std::uint32_t(f));
+      constant_frame = constant_renderer.render(camera, std::uint32_t(f));
+      procedural_ms.push_back(procedural_frame.statistics.milliseconds);
+      constant_ms.push_back(constant_frame.statistics.milliseconds);
+    }
+    const auto write = [](const std::string& path, const igi::Frame& frame) {
+      if (igi::image_format(path) == igi::ImageFormat::png)
+        igi::write_image(path, frame.rgb8);
+      else
+        igi::write_image(path, frame.hdr);
+      std::printf("wrote %s\n", path.c_str());
+    };
+    write(output, procedural_frame);
+    if (!constant_output.empty()) write(constant_output, constant_frame);
+
+    const double p = median(procedural_ms), c = median(constant_ms);
+    std::printf("%s: %zu triangles, %dx%d, embree/16, %d VPLs per pixel, S=%d, aa %d, %d frames per mode\n",
+                scene.name.c_str(), scene.triangle_count(), settings.width, settings.height, settings.vpls_per_pixel,
+                settings.interleave, settings.antialiasing, frames);
+    std::printf("procedural shaders: %.2f ms/frame, %.2f fps, %.2f Mrays/s\n", p, fps(p),
+                procedural_frame.statistics.mrays_per_second());
+    std::printf("constant diffuse:   %.2f ms/frame, %.2f fps, %.2f Mrays/s\n", c, fps(c),
+                constant_frame.statistics.mrays_per_second());
+    std::printf("procedural / constant frame rate: %.2f (paper: 3.7 / 4.5 fps = 0.82)\n", c > 0.0 && p > 0.0 ? c / p : 0.0);
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "igi-procedural: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,138 @@
+#pragma once
+/// \file
+/// Deterministic scene animations for dynamic-scene runs: the scene changes of frame f are a pure
+/// function of the initial scene, the initial camera, the kind of animation and f, so a cluster
+/// and a single process can be made to render the very same frames. Frame 0 is the initial scene.
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "igi/distributed/messages.hpp"
+#include "igi/render/settings.hpp"
+#include "igi/scene/scene.hpp"
+
+namespace igi {
+
+/// What moves from frame to frame.
+enum class Animation { none, light, camera, object };
+
+/// Parses "none", "light", "camera" or "object"; throws SettingsError naming anything else.
+inline Animation parse_animation(std::string_view text) {
+  if (text == "none" || text.empty()) return Animation::none;
+  if (text == "light") return Animation::light;
+  if (text == "camera") return Animation::camera;
+  if (text == "object") return Animation::object;
+  throw SettingsError("animation '" + std::string(text) + "' is not one of none, light, camera, object");
+}
+
+namespace animation_detail {
+
+/// Radians per frame for lights and objects: a full cycle takes about 21 frames, so every frame of
+/// a short run moves visibly.
+inline constexpr float swing_step = 0.3f;
+/// Radians per frame of the camera orbit: about 2.3 degrees, consecutive views overlap as in a walk-through.
+inline constexpr float orbit_step = 0.04f;
+/// Amplitude of light and object motion as a fraction of the scene diagonal: 5% keeps the Cornell
+/// box's luminaire under its ceiling and its boxes on the floor.
+inline constexpr float swing_amplitude = 0.05f;
+
+/// Diagonal of the initial scene (1 for an empty scene).
+inline float diagonal(const Scene& scene) {
+  const Bounds bounds = scene.bounds();
+  return bounds.empty() ? 1.0f : glm::length(bounds.extent());
+}
+
+/// True if instance `i`'s mesh has an emissive material.
+inline bool emissive_instance(const Scene& scene, std::size_t i) {
+  return scene.material_of(scene.instances[i].mesh).emissive();
+}
+
+/// World bounds of instance `i`.
+inline Bounds instance_bounds(const Scene& scene, std::size_t i) {
+  Bounds bounds;
+  const Instance& instance = scene.instances[i];
+  for (const glm::vec3& p : scene.meshes[std::size_t(instance.mesh)].positions)
+    bounds.extend(glm::vec3(instance.transform * glm::vec4(p, 1.0f)));
+  return bounds;
+}
+
+}  // namespace animation_detail
+
+/// The instance the "object" animation moves: the smallest non-emissive one (a Cornell box's short box), -1 if none.
+inline int animated_instance(const Scene& scene) {
+  int best = -1;
+  float best_size = 0.0f;
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    if (animation_detail::emissive_instance(scene, i)) continue;
+    const Bounds bounds = animation_detail::instance_bounds(scene, i);
+    if (bounds.empty()) continue;
+    const float size = glm::length(bounds.extent());
+    if (best < 0 || size < best_size) {
+      best = int(i);
+      best_size = size;
+    }
+  }
+  return best;
+}
+
+/// Scene changes of frame `frame` of animation `kind`, from the initial scene and camera.
+/// light: punctual lights circle horizontally (directional ones turn about +Y); a scene without
+/// punctual lights slides its emissive instances instead. camera: orbit about +Y through the
+/// scene centre. object: the animated_instance slides sideways. Throws SettingsError if the scene
+/// has nothing of that kind.
+inline SceneChanges animate(const Scene& initial, const Camera& camera, Animation kind, std::uint32_t frame) {
+  using namespace animation_detail;
+  SceneChanges changes;
+  changes.camera = camera;
+  const float angle = swing_step * float(frame);
+  const float amplitude = swing_amplitude * diagonal(initial);
+  switch (kind) {
+    case Animation::none:
+      break;
+    case Animation::camera: {
+      const glm::vec3 centre = initial.bounds().empty() ? glm::vec3(0.0f) : initial.bounds().center();
+      const glm::mat4 orbit = glm::translate(glm::mat4(1.0f), centre) *
+                              glm::rotate(glm::mat4(1.0f), orbit_step * float(frame), glm::vec3(0.0f, 1.0f, 0.0f)) *
+                              glm::translate(glm::mat4(1.0f), -centre);
+      changes.camera.camera_to_world = orbit * camera.camera_to_world;
+      break;
+    }
+    case Animation::light: {
+      if (!initial.lights.empty()) {
+        const glm::mat3 turn(glm::rotate(glm::mat4(1.0f), angle, glm::vec3(0.0f, 1.0f, 0.0f)));
+        for (std::size_t i = 0; i < initial.lights.size(); ++i) {
+          PunctualLight light = initial.lights[i];
+          // A circle through the initial position: offset (cos a - 1, 0, sin a) is zero at frame 0.
+          light.position += amplitude * glm::vec3(std::cos(angle) - 1.0f, 0.0f, std::sin(angle));
+          if (light.kind == PunctualKind::directional) light.direction = glm::normalize(turn * light.direction);
+          changes.lights.emplace_back(int(i), light);
+        }
+        break;
+      }
+      bool any = false;
+      for (std::size_t i = 0; i < initial.instances.size(); ++i) {
+        if (!emissive_instance(initial, i)) continue;
+        const glm::mat4 slide = glm::translate(glm::mat4(1.0f), glm::vec3(amplitude * std::sin(angle), 0.0f, 0.0f));
+        changes.instances.emplace_back(int(i), slide * initial.instances[i].transform);
+        any = true;
+      }
+      if (!any) throw SettingsError("--animate light: scene '" + initial.name + "' has no punctual or emissive light");
+      break;
+    }
+    case Animation::object: {
+      const int instance = animated_instance(initial);
+      if (instance < 0) throw SettingsError("--animate object: scene '" + initial.name + "' has no non-emissive instance");
+      const glm::mat4 slide = glm::translate(glm::mat4(1.0f), glm::vec3(amplitude * std::sin(angle), 0.0f, 0.0f));
+      changes.instances.emplace_back(instance, slide * initial.instances[std::size_t(instance)].transform);
+      break;
+    }
+  }
+  return changes;
+}
+
+}  // namespace igi

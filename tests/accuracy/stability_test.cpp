@@ -1,0 +1,412 @@
+// Where instant radiosity is known to fail, the IGI renderer must fail in a bounded, reproducible
+// way: the 1/d^2 singularity in concave corners and on glossy receivers (bounded by the clamp),
+// heavy occlusion (larger but finite error), depth discontinuities under the filter (no leaks),
+// animation (no flicker beyond a bound) and degenerate scenes (a defined image or a clear error).
+#include <catch2/catch.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "accuracy_support.hpp"
+
+using namespace igi;
+using namespace igi::testing;
+
+namespace {
+
+/// Adds quad (a, b, c, d) to `mesh` with its winding facing `normal`.
+void add_quad(Mesh& mesh, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, const glm::vec3& normal) {
+  if (glm::dot(glm::cross(b - a, c - a), normal) < 0.0f) std::swap(b, d);
+  const auto base = std::uint32_t(mesh.positions.size());
+  for (const glm::vec3& p : {a, b, c, d}) {
+    mesh.positions.push_back(p);
+    mesh.normals.push_back(glm::normalize(normal));
+  }
+  mesh.triangles.push_back({base, base + 1, base + 2});
+  mesh.triangles.push_back({base, base + 2, base + 3});
+}
+
+/// Adds `mesh` with a new diffuse material of `albedo` (and `emission`) as one instance.
+void add_object(Scene& scene, Mesh mesh, float albedo, const glm::vec3& emission = glm::vec3(0.0f)) {
+  Material material;
+  material.name = mesh.name;
+  material.base_color = glm::vec4(albedo, albedo, albedo, 1.0f);
+  material.metallic = 0.0f;
+  material.emission = emission;
+  mesh.material = int(scene.materials.size());
+  scene.materials.push_back(material);
+  scene.instances.push_back({.name = mesh.name, .mesh = int(scene.meshes.size())});
+  scene.meshes.push_back(std::move(mesh));
+}
+
+/// A camera at `eye` looking at `target` (+Y up).
+Camera look_at(const glm::vec3& eye, const glm::vec3& target, float yfov = 1.0f) {
+  Camera camera;
+  camera.name = "test";
+  camera.camera_to_world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0.0f, 1.0f, 0.0f)));
+  camera.yfov = yfov;
+  return camera;
+}
+
+/// Faces of box_mesh, in the order it adds them.
+enum BoxFace { box_floor, box_ceiling, box_x_lower, box_x_upper, box_z_lower, box_z_upper, box_no_face };
+
+/// The faces of the axis-aligned box [lower, upper] but `missing`, normals pointing inwards.
+Mesh box_mesh(const std::string& name, const glm::vec3& lower, const glm::vec3& upper, BoxFace missing = box_no_face) {
+  Mesh mesh;
+  mesh.name = name;
+  const glm::vec3 l = lower, u = upper;
+  const auto face = [&](BoxFace which, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, glm::vec3 n) {
+    if (which != missing) add_quad(mesh, a, b, c, d, n);
+  };
+  face(box_floor, {l.x, l.y, l.z}, {u.x, l.y, l.z}, {u.x, l.y, u.z}, {l.x, l.y, u.z}, {0, 1, 0});
+  face(box_ceiling, {l.x, u.y, l.z}, {u.x, u.y, l.z}, {u.x, u.y, u.z}, {l.x, u.y, u.z}, {0, -1, 0});
+  face(box_x_lower, {l.x, l.y, l.z}, {l.x, u.y, l.z}, {l.x, u.y, u.z}, {l.x, l.y, u.z}, {1, 0, 0});
+  face(box_x_upper, {u.x, l.y, l.z}, {u.x, u.y, l.z}, {u.x, u.y, u.z}, {u.x, l.y, u.z}, {-1, 0, 0});
+  face(box_z_lower, {l.x, l.y, l.z}, {u.x, l.y, l.z}, {u.x, u.y, l.z}, {l.x, u.y, l.z}, {0, 0, 1});
+  face(box_z_upper, {l.x, l.y, u.z}, {u.x, l.y, u.z}, {u.x, u.y, u.z}, {l.x, u.y, u.z}, {0, 0, -1});
+  return mesh;
+}
+
+/// Largest value a pixel of an IGI frame (anti-aliasing 1, no mirrors or glass in the scene) can
+/// take with clamp distance `clamp`. One VPL adds at most intensity x profile x cos / clamp^2
+/// <= max(intensity) / clamp^2 to irradiance (profile and cosine are at most 1; a directional
+/// VPL adds at most its irradiance); a pixel sums one set, and the filter averages neighbours
+/// (a convex combination), so irradiance <= the largest set sum S. Radiance = emission +
+/// albedo / pi x irradiance + the glossy lobe, whose f x cos is at most glossy (s + 2) / (2 pi)
+/// per unit of irradiance term, so L <= max emission + (max albedo / pi + max glossy (s+2)/(2 pi)) S.
+double clamp_bound(const Scene& scene, const RenderSettings& settings, std::uint32_t frame, float clamp,
+                   float max_albedo, float max_glossy_lobe) {
+  const EmbreeBackend<8> backend(scene);
+  VplSettings vpl_settings;
+  vpl_settings.sets = settings.interleave * settings.interleave;
+  vpl_settings.vpls_per_set = settings.vpls_per_pixel;
+  vpl_settings.frame = frame;
+  vpl_settings.seed = settings.seed;
+  vpl_settings.max_bounces = settings.max_bounces;
+  const VplSets vpls = QmcVplSampler().generate(scene, backend, vpl_settings);
+  double largest_set = 0.0;
+  for (const std::vector<Vpl>& set : vpls.sets) {
+    double sum = 0.0;
+    for (const Vpl& vpl : set) {
+      const double intensity = std::max(vpl.intensity.x, std::max(vpl.intensity.y, vpl.intensity.z));
+      sum += vpl.kind == VplKind::directional ? intensity : intensity / (double(clamp) * double(clamp));
+    }
+    largest_set = std::max(largest_set, sum);
+  }
+  double emission = 0.0;
+  for (const Material& m : scene.materials) emission = std::max(emission, double(std::max(m.emission.x, std::max(m.emission.y, m.emission.z))));
+  return emission + (double(max_albedo) / 3.14159265358979 + double(max_glossy_lobe)) * largest_set;
+}
+
+}  // namespace
+
+TEST_CASE("concave corners: no pixel above the clamp's bound, without the clamp the peak grows", "[accuracy][stability][clamp]") {
+  Scene scene = cornell_box();
+  // The camera looks into the corner of floor, back wall and the x = 0 wall from close by
+  // (from free space between the blocks).
+  scene.cameras.front() = look_at({0.15f, 0.3f, 0.3f}, {0.0f, 0.0f, 0.5592f}, 1.2f);
+  RenderSettings s;
+  s.width = s.height = 64;
+  s.vpls_per_pixel = 16;
+  const float max_albedo = 0.885809f;  // the white material's red channel: the largest albedo of the box
+  std::vector<float> clamps{0.1f, 0.03f, 0.01f, 0.003f, 0.0f};
+  std::vector<Frame> frames;
+  for (const float clamp : clamps) {
+    s.clamp_distance = clamp;
+    frames.push_back(render_once<EmbreeBackend<8>>(scene, s));
+    REQUIRE(all_finite(frames.back()));
+  }
+  for (std::size_t i = 0; i < clamps.size(); ++i) {
+    const float peak = max_of(frames[i].hdr);
+    if (clamps[i] > 0.0f) {
+      const double bound = clamp_bound(scene, s, 0, clamps[i], max_albedo, 0.0f);
+      INFO("clamp " << clamps[i] << ": brightest pixel " << peak << ", bound " << bound);
+      CHECK(peak <= bound);
+    } else {
+      INFO("no clamp: brightest pixel " << peak << " (clamp 0.1: " << max_of(frames[0].hdr) << ")");
+      CHECK(std::isfinite(peak));
+    }
+  }
+  // The clamp only lowers 1/d^2, every rounding step is monotone, and the filter's weights do not
+  // depend on it, so each pixel can only grow as the clamp shrinks: exactly, without tolerance.
+  for (std::size_t i = 1; i < clamps.size(); ++i) {
+    std::size_t decreased = 0;
+    for (std::size_t p = 0; p < frames[i].hdr.pixels.size(); ++p)
+      if (glm::any(glm::lessThan(frames[i].hdr.pixels[p], frames[i - 1].hdr.pixels[p]))) ++decreased;
+    INFO("clamp " << clamps[i - 1] << " -> " << clamps[i] << ": " << decreased << " pixels got darker");
+    CHECK(decreased == 0);
+  }
+  // What happens without the clamp: corner pixels next to VPLs spike. The peak grows as the
+  // clamp shrinks (1/d^2 of the nearest VPL; measured 0.43 -> 1.24, saturating once the clamp is
+  // below the nearest VPL's distance) while the image mean hardly moves (measured +3%): the
+  // clamp's bias sits in the few pixels near VPLs. A mean 1.5 times higher would mean spikes
+  // dominate the whole image.
+  const float peak_clamped = max_of(frames.front().hdr), peak_free = max_of(frames.back().hdr);
+  INFO("peak with clamp 0.1: " << peak_clamped << ", without clamp: " << peak_free << "; means " << mean_of(frames.front().hdr)
+                               << " -> " << mean_of(frames.back().hdr));
+  CHECK(peak_free > 2.0f * peak_clamped);
+  CHECK(mean_of(frames.back().hdr) < 1.5 * mean_of(frames.front().hdr));
+}
+
+TEST_CASE("glossy receiver lit by VPLs stays within the clamp's bound", "[accuracy][stability][glossy]") {
+  Scene scene = cornell_box();
+  // A metallic floor of roughness 0.3: Phong exponent 2 / 0.09^2 - 2 = 244.9, a lobe that turns
+  // every VPL into a highlight.
+  Material& white = scene.materials[0];
+  Material glossy = white;
+  glossy.name = "glossy floor";
+  glossy.metallic = 1.0f;
+  glossy.roughness = 0.3f;
+  scene.materials.push_back(glossy);
+  scene.meshes[0].material = int(scene.materials.size()) - 1;  // the floor
+  const float shininess = 2.0f / (0.09f * 0.09f) - 2.0f;
+  const float lobe = 0.885809f * (shininess + 2.0f) / (2.0f * 3.14159265f);  // largest glossy f x cos per unit
+  RenderSettings s;
+  s.width = s.height = 64;
+  s.vpls_per_pixel = 16;
+  for (const float clamp : {0.1f, 0.02f}) {
+    s.clamp_distance = clamp;
+    const Frame frame = render_once<EmbreeBackend<8>>(scene, s);
+    REQUIRE(all_finite(frame));
+    const double bound = clamp_bound(scene, s, 0, clamp, 0.885809f, lobe);
+    INFO("clamp " << clamp << ": brightest pixel " << max_of(frame.hdr) << ", bound " << bound);
+    CHECK(max_of(frame.hdr) <= bound);
+    // The same frame twice: spikes, if any, are reproducible.
+    CHECK(render_once<EmbreeBackend<8>>(scene, s).hdr.pixels == frame.hdr.pixels);
+  }
+}
+
+TEST_CASE("heavy occlusion: light in a side room seen through a gap, error larger but finite", "[accuracy][stability][occlusion]") {
+  // Main room [0,1]^3 and a side room [1,1.6] x [0,1] x [0,1] behind the wall x = 1, which has a
+  // door 0.1 wide and 0.5 high; the light is on the side room's ceiling, invisible from the
+  // main room, which is lit only through the door.
+  Scene scene;
+  scene.name = "side room";
+  // The rooms lack the shared wall x = 1, which is built once, with the door (z in [0.45, 0.55],
+  // y in [0, 0.5]).
+  Mesh main_room = box_mesh("main room", {0, 0, 0}, {1, 1, 1}, box_x_upper);
+  add_quad(main_room, {1, 0, 0}, {1, 1, 0}, {1, 1, 0.45f}, {1, 0, 0.45f}, {-1, 0, 0});
+  add_quad(main_room, {1, 0, 0.55f}, {1, 1, 0.55f}, {1, 1, 1}, {1, 0, 1}, {-1, 0, 0});
+  add_quad(main_room, {1, 0.5f, 0.45f}, {1, 1, 0.45f}, {1, 1, 0.55f}, {1, 0.5f, 0.55f}, {-1, 0, 0});
+  add_object(scene, main_room, 0.7f);
+  Mesh side_room = box_mesh("side room", {1, 0, 0}, {1.6f, 1, 1}, box_x_lower);
+  add_object(scene, side_room, 0.7f);
+  Mesh light;
+  light.name = "light";
+  add_quad(light, {1.2f, 0.99f, 0.4f}, {1.4f, 0.99f, 0.4f}, {1.4f, 0.99f, 0.6f}, {1.2f, 0.99f, 0.6f}, {0, -1, 0});
+  add_object(scene, light, 0.0f, glm::vec3(50.0f));
+  scene.cameras.push_back(look_at({0.1f, 0.5f, 0.5f}, {1.0f, 0.3f, 0.5f}, 1.3f));
+
+  RenderSettings s;  // the renderer's defaults: 16 VPLs per pixel, 3 x 3 interleaving, filter, automatic clamp
+  s.width = s.height = 32;
+  PathTracerSettings p;
+  p.jitter = false;  // pixel centres, as IGI
+  const Frame occluded = render_once<EmbreeBackend<8>>(scene, s);
+  REQUIRE(all_finite(occluded));
+  const Image occluded_reference = path_trace(scene, s.width, s.height, 1024, p);
+  REQUIRE(finite(occluded_reference));
+  REQUIRE(mean_of(occluded_reference) > 0.0);
+
+  Scene open = cornell_box();
+  const Frame cornell = render_once<EmbreeBackend<8>>(open, s);
+  const Image cornell_reference = path_trace(open, s.width, s.height, 1024, p);
+  // Relative RMSE (RMSE over the reference's mean) makes scenes of different brightness comparable.
+  const double occluded_error = igi::rmse(occluded.hdr, occluded_reference) / mean_of(occluded_reference);
+  const double cornell_error = igi::rmse(cornell.hdr, cornell_reference) / mean_of(cornell_reference);
+  INFO("relative RMSE against the path tracer: side room " << occluded_error << ", Cornell box " << cornell_error
+                                                          << "; means IGI " << mean_of(occluded.hdr) << " vs path "
+                                                          << mean_of(occluded_reference));
+  CHECK(std::isfinite(occluded_error));
+  CHECK(occluded_error > cornell_error);
+  // Finite also in the sense of usable: the IGI mean is within a factor 2 of the truth.
+  CHECK(mean_of(occluded.hdr) > 0.5 * mean_of(occluded_reference));
+  CHECK(mean_of(occluded.hdr) < 2.0 * mean_of(occluded_reference));
+}
+
+TEST_CASE("depth discontinuity under the filter: no light leaks across", "[accuracy][stability][filter]") {
+  // A bright square 2 units in front of the camera, lit by a point light 1 unit in front of
+  // it; a wall 100 units away, of the same albedo and facing the same way (so only depth tells
+  // them apart). The square's shadow covers all of the wall the camera sees, and the light the
+  // square reflects goes back towards the camera, so the wall's true radiance is 0.
+  Scene scene;
+  scene.name = "depth step";
+  Mesh square;
+  square.name = "square";
+  add_quad(square, {-0.5f, -0.5f, -2}, {0.5f, -0.5f, -2}, {0.5f, 0.5f, -2}, {-0.5f, 0.5f, -2}, {0, 0, 1});
+  add_object(scene, square, 0.8f);
+  Mesh wall;
+  wall.name = "wall";
+  add_quad(wall, {-200, -200, -100}, {200, -200, -100}, {200, 200, -100}, {-200, 200, -100}, {0, 0, 1});
+  add_object(scene, wall, 0.8f);
+  scene.lights.push_back({.name = "lamp", .kind = PunctualKind::point, .intensity = 1.0f, .position = {0, 0, -1}});
+  Camera camera;
+  camera.name = "front";
+  camera.yfov = 0.6f;  // the square fills the middle of the view with wall all around it
+  scene.cameras.push_back(camera);
+  RenderSettings s;
+  s.width = s.height = 60;
+  s.clamp_distance = 0.01f;
+  const Frame filtered = render_once<EmbreeBackend<8>, StandardBrdf, DiscontinuityFilter>(scene, s);
+  const Frame boxed = render_once<EmbreeBackend<8>, StandardBrdf, BoxFilter>(scene, s);
+  REQUIRE(all_finite(filtered));
+  // Which pixel centres see the square: the ray through the centre meets z = -2 inside it.
+  const PinholeProjection projection(camera, s.width, s.height);
+  double square_sum = 0.0;
+  int square_pixels = 0;
+  float wall_max_filtered = 0.0f, wall_max_boxed = 0.0f;
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
+      const glm::vec3 d = projection.direction(float(x) + 0.5f, float(y) + 0.5f);
+      const glm::vec3 at = d * (-2.0f / d.z);
+      const bool on_square = std::abs(at.x) < 0.5f && std::abs(at.y) < 0.5f;
+      const glm::vec3 f = filtered.hdr(x, y), b = boxed.hdr(x, y);
+      if (on_square) {
+        square_sum += (f.r + f.g + f.b) / 3.0;
+        ++square_pixels;
+      } else {
+        wall_max_filtered = std::max(wall_max_filtered, std::max(f.r, std::max(f.g, f.b)));
+        wall_max_boxed = std::max(wall_max_boxed, std::max(b.r, std::max(b.g, b.b)));
+      }
+    }
+  REQUIRE(square_pixels > 100);
+  const double square_mean = square_sum / square_pixels;
+  INFO("square mean " << square_mean << ", brightest wall pixel: discontinuity filter " << wall_max_filtered
+                      << ", box filter " << wall_max_boxed);
+  // The wall's own light is 0; a leak of one neighbour's irradiance out of the 9 averaged would
+  // bring a wall pixel to ~1/9 = 0.11 of the square. 1% is an order of magnitude below any leak.
+  CHECK(wall_max_filtered < 0.01 * square_mean);
+  // The box filter, blind to depth, does leak: the check above can fail.
+  CHECK(wall_max_boxed > 0.05 * square_mean);
+}
+
+TEST_CASE("flicker: the same frame twice is bit-identical, a slowly moving light changes frames boundedly", "[accuracy][stability][flicker]") {
+  Scene scene = cornell_box();
+  scene.lights.push_back({.name = "bulb", .kind = PunctualKind::point, .intensity = 0.05f, .position = {0.28f, 0.4f, 0.28f}});
+  RenderSettings s;
+  s.width = s.height = 48;
+  s.vpls_per_pixel = 16;
+  const Frame first = render_once<EmbreeBackend<8>>(scene, s, 5);
+  const Frame again = render_once<EmbreeBackend<8>>(scene, s, 5);
+  CHECK(first.hdr.pixels == again.hdr.pixels);
+  CHECK(first.rgb8.bytes == again.rgb8.bytes);
+
+  // Animation: the bulb moves by 1 mm per frame. The flicker a viewer sees in overall
+  // brightness is the change of each frame's image mean against the previous frame's, relative.
+  constexpr int frames = 8;
+  std::vector<double> coherent, fresh, still;
+  for (int k = 0; k < frames; ++k) {
+    Scene moved = scene;
+    moved.lights.back().position.x += 0.001f * float(k);
+    // The same frame index every frame: the VPLs come from the same QMC points and move with the light.
+    coherent.push_back(mean_of(render_once<EmbreeBackend<8>>(moved, s, 0).hdr));
+    // A fresh frame index every frame (new VPLs), and the static scene with the same indices.
+    fresh.push_back(mean_of(render_once<EmbreeBackend<8>>(moved, s, std::uint32_t(k)).hdr));
+    still.push_back(mean_of(render_once<EmbreeBackend<8>>(scene, s, std::uint32_t(k)).hdr));
+  }
+  const auto largest_change = [](const std::vector<double>& means) {
+    double change = 0.0;
+    for (std::size_t k = 1; k < means.size(); ++k) change = std::max(change, std::abs(means[k] / means[k - 1] - 1.0));
+    return change;
+  };
+  const Estimate still_spread = estimate(still);
+  const double noise = still_spread.standard_error * std::sqrt(double(frames)) / still_spread.mean;  // relative sd of one frame's mean
+  INFO("largest frame-to-frame change of the image mean: same index " << largest_change(coherent) << ", fresh index "
+       << largest_change(fresh) << " (static scene " << largest_change(still) << "); relative sd of a frame mean " << noise);
+  // With the same index the only change is the light's: a 1 mm step changes the direct light on
+  // walls about 0.25 m away by about 2 x 1 mm / 0.25 m = 0.8%, so 2% per frame is the bound.
+  CHECK(largest_change(coherent) < 0.02);
+  // With fresh VPLs every frame the method's own noise decides: a frame mean has relative sd
+  // `noise` (about 4% at 16 VPLs per pixel, measured here on the static frames), a difference of
+  // two sqrt(2) times that; 4 of those plus the light's 0.8% bounds the flicker, and moving the
+  // light must not add to it.
+  CHECK(largest_change(fresh) < 4.0 * std::sqrt(2.0) * noise + 0.008);
+  CHECK(noise < 0.08);  // and the noise itself is the method's at 16 VPLs per pixel, not a broken sampler
+}
+
+TEST_CASE("degenerate scenes: a defined image or a clear error, never NaN", "[accuracy][stability][degenerate]") {
+  RenderSettings s;
+  s.width = s.height = 24;
+  s.vpls_per_pixel = 4;
+  SECTION("no lights: black") {
+    Scene scene = cornell_box();
+    scene.materials[3].emission = glm::vec3(0.0f);
+    const Frame frame = render_once<EmbreeBackend<8>>(scene, s);
+    REQUIRE(all_finite(frame));
+    CHECK(max_of(frame.hdr) == 0.0f);
+    const Image path = path_trace(scene, 24, 24, 4);
+    REQUIRE(finite(path));
+    CHECK(max_of(path) == 0.0f);
+  }
+  SECTION("empty scene: a clear error") {
+    Scene scene;
+    scene.name = "empty";
+    // Without a camera even the default camera cannot be fitted: a SceneError names the scene.
+    CHECK_THROWS_WITH(render_once<EmbreeBackend<8>>(scene, s), Catch::Contains("no geometry"));
+    scene.cameras.push_back(Camera{});
+    CHECK_THROWS_WITH(path_trace(scene, 24, 24, 1), Catch::Contains("no geometry"));
+    // With a camera the IGI renderer draws a defined black image (see the [!mayfail] case below).
+    const Frame frame = render_once<EmbreeBackend<8>>(scene, s);
+    REQUIRE(all_finite(frame));
+    CHECK(max_of(frame.hdr) == 0.0f);
+  }
+  SECTION("light inside a closed object: black outside") {
+    Scene scene;
+    scene.name = "sealed light";
+    add_object(scene, box_mesh("crate", {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}), 0.7f);
+    Mesh floor;
+    floor.name = "floor";
+    add_quad(floor, {-5, 0, -5}, {5, 0, -5}, {5, 0, 5}, {-5, 0, 5}, {0, 1, 0});
+    add_object(scene, floor, 0.7f);
+    Mesh light;
+    light.name = "light";
+    add_quad(light, {-0.1f, 0.9f, -0.1f}, {0.1f, 0.9f, -0.1f}, {0.1f, 0.9f, 0.1f}, {-0.1f, 0.9f, 0.1f}, {0, -1, 0});
+    add_object(scene, light, 0.0f, glm::vec3(10.0f));
+    scene.lights.push_back({.name = "bulb", .kind = PunctualKind::point, .intensity = 1.0f, .position = {0, 0.5f, 0}});
+    scene.cameras.push_back(look_at({2, 2, 3}, {0, 0.5f, 0}));
+    const Frame frame = render_once<EmbreeBackend<8>>(scene, s);
+    REQUIRE(all_finite(frame));
+    CHECK(max_of(frame.hdr) == 0.0f);
+    const Image path = path_trace(scene, 24, 24, 4);
+    REQUIRE(finite(path));
+    CHECK(max_of(path) == 0.0f);
+  }
+  SECTION("camera inside an object: the object's inside, finite") {
+    Scene scene = cornell_box();
+    add_object(scene, box_mesh("crate", {0.2f, 0.1f, 0.2f}, {0.35f, 0.25f, 0.35f}), 0.7f);
+    scene.cameras.front() = look_at({0.27f, 0.17f, 0.27f}, {0.27f, 0.17f, 0.5f});
+    const Frame frame = render_once<EmbreeBackend<8>>(scene, s);
+    REQUIRE(all_finite(frame));
+    // Inside the crate no light arrives: its walls are black from within.
+    CHECK(max_of(frame.hdr) == 0.0f);
+    const Image path = path_trace(scene, 24, 24, 4);
+    REQUIRE(finite(path));
+    CHECK(max_of(path) == 0.0f);
+  }
+  SECTION("zero-area emitter: ignored, the image is that without it") {
+    Scene scene = cornell_box();
+    Scene with = scene;
+    Mesh sliver;
+    sliver.name = "sliver";
+    sliver.positions = {{0.2f, 0.3f, 0.3f}, {0.3f, 0.3f, 0.3f}, {0.4f, 0.3f, 0.3f}};  // collinear: no area
+    sliver.normals = {{0, -1, 0}, {0, -1, 0}, {0, -1, 0}};
+    sliver.triangles = {{0, 1, 2}};
+    add_object(with, sliver, 0.0f, glm::vec3(100.0f));
+    const Frame frame = render_once<EmbreeBackend<8>>(with, s);
+    REQUIRE(all_finite(frame));
+    CHECK(frame.hdr.pixels == render_once<EmbreeBackend<8>>(scene, s).hdr.pixels);
+    const Image path = path_trace(with, 24, 24, 4);
+    REQUIRE(finite(path));
+    CHECK(path.pixels == path_trace(scene, 24, 24, 4).pixels);
+  }
+}
+
+TEST_CASE("empty scene with a camera: the IGI renderer should refuse it with a clear error", "[accuracy][stability][degenerate][!mayfail]") {
+  // Issue 5 asks for a clear error on an empty scene; Renderer renders it black when a camera is
+  // given (reported to the lead; this case documents the wanted behaviour without failing CI).
+  Scene scene;
+  scene.name = "empty";
+  scene.cameras.push_back(Camera{});
+  RenderSettings s;
+  s.width = s.height = 8;
+  CHECK_THROWS_WITH(render_once<EmbreeBackend<8>>(scene, s), Catch::Contains("empty") || Catch::Contains("no geometry"));
+}

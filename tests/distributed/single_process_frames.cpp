@@ -1,0 +1,75 @@
+// single-process-frames: the frames igi-cluster renders, made by one process with igi::Renderer
+// and the same deterministic scene changes (igi/distributed/animation.hpp). The distributed
+// tests compare the cluster's frames with these pixel for pixel.
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "igi/backends/embree/embree_backend.hpp"
+#include "igi/distributed/animation.hpp"
+#include "igi/io/image.hpp"
+#include "igi/lighting/qmc_vpl_sampler.hpp"
+#include "igi/render/filter_choice.hpp"
+#include "igi/render/renderer.hpp"
+#include "igi/scene/camera.hpp"
+#include "igi/scene/cornell.hpp"
+#include "igi/scene/gltf.hpp"
+#include "igi/shading/brdf_shaders.hpp"
+#include "igi/shading/gltf_material_shader.hpp"
+
+int main(int argc, char** argv) {
+  std::string scene_file, builtin, output = "frame.png", size = "160x120", animate = "none", filter_name = "discontinuity";
+  int frames = 1;
+  igi::RenderSettings settings;
+  CLI::App app{"single-process-frames: igi-cluster's frames from one process (Renderer + the same animation)"};
+  app.add_option("scene", scene_file, "glTF scene");
+  app.add_option("--builtin", builtin, "built-in scene")->check(CLI::IsMember({"cornell"}));
+  app.add_option("-o,--output", output, "frames go to <stem>_NNNN<ext>");
+  app.add_option("--size", size, "WIDTHxHEIGHT");
+  app.add_option("--vpls", settings.vpls_per_pixel, "VPLs per pixel");
+  app.add_option("--interleave", settings.interleave, "interleaving S");
+  app.add_option("--aa", settings.antialiasing, "primary rays per pixel");
+  app.add_option("--filter", filter_name, "irradiance filter")->check(CLI::IsMember({"discontinuity", "box", "none"}));
+  app.add_option("--threads", settings.threads, "threads");
+  app.add_option("--seed", settings.seed, "seed");
+  app.add_option("--tile", settings.tile_size, "tile edge");
+  app.add_option("--frames", frames, "frames")->check(CLI::Range(1, 100000));
+  app.add_option("--animate", animate, "animation")->check(CLI::IsMember({"none", "light", "camera", "object"}));
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (std::sscanf(size.c_str(), "%dx%d", &settings.width, &settings.height) != 2)
+      throw igi::SettingsError("--size '" + size + "' is not WIDTHxHEIGHT");
+    if (scene_file.empty() == builtin.empty()) throw igi::SettingsError("give either a SCENE file or --builtin cornell");
+    igi::Scene scene = builtin.empty() ? igi::load_gltf(scene_file) : igi::cornell_box();
+    const igi::Camera camera = scene.cameras.empty() ? igi::default_camera(scene) : scene.cameras.front();
+    const igi::Scene initial = scene;
+    const igi::Animation animation = igi::parse_animation(animate);
+    const igi::GltfMaterialShader surface(scene);
+    const igi::StandardBrdf brdf;
+    const igi::QmcVplSampler sampler;
+    const igi::FilterChoice filter(filter_name);
+    igi::Renderer<igi::EmbreeBackend<16>, igi::GltfMaterialShader, igi::StandardBrdf, igi::QmcVplSampler,
+                  igi::FilterChoice>
+        renderer(scene, settings, surface, brdf, sampler, filter);
+    const std::filesystem::path out(output);
+    for (int f = 0; f < frames; ++f) {
+      const igi::SceneChanges changes = igi::animate(initial, camera, animation, std::uint32_t(f));
+      // Only values that differ are set, as TileRenderer::apply does (an unchanged scene is not re-committed).
+      for (const auto& [index, light] : changes.lights) renderer.set_light(index, light);
+      for (const auto& [index, transform] : changes.instances)
+        if (renderer.scene().instances[std::size_t(index)].transform != transform)
+          renderer.set_instance_transform(index, transform);
+      const igi::Frame frame = renderer.render(changes.camera, std::uint32_t(f));
+      char number[16];
+      std::snprintf(number, sizeof number, "_%04d", f);
+      igi::write_image(out.parent_path() / (out.stem().string() + number + out.extension().string()), frame.rgb8);
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "single-process-frames: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
