@@ -65,9 +65,10 @@ int main(int argc, char** argv) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     igi::write_image(output, image);
     const igi::PathTracerStatistics& s = tracer.statistics();
-    std::fprintf(stderr, "%s: %dx%d, %d spp in %.2f s; rays: %llu primary, %llu shadow, %llu secondary\n", output.c_str(), width,
-                 height, spp, seconds, (unsigned long long)s.rays.primary, (unsigned long long)s.rays.shadow,
-                 (unsigned long long)s.rays.secondary);
+    std::fprintf(stderr, "%s: %dx%d, %d spp in %.2f s; rays: %llu primary, %llu shadow, %llu secondary; %llu invalid samples\n",
+                 output.c_str(), width, height, spp, seconds, (unsigned long long)s.rays.primary,
+                 (unsigned long long)s.rays.shadow, (unsigned long long)s.rays.secondary,
+                 (unsigned long long)s.invalid_samples);
     return 0;
   } catch (const std::exception& error) {
     std::cerr << "igi-path-render: " << error.what() << "\n";

@@ -55,6 +55,13 @@ def main():
     print("MODEL (not measured): workers, compute-bound fps, fps with the 1 Gbit/s cap, link-bound?")
     for n, compute, fps, bound in rows:
         print(f"  {n:3d}  {compute:8.1f}  {fps:8.1f}  {'link' if bound else 'compute'}")
+    per_tile = t_tile + t_overhead + RTT_MS
+    if t_fixed > 0:
+        print(f"MODEL: as N grows, fps approaches 1000 / t_fixed = {1000.0 / t_fixed:.0f} (VPLs are built on every worker)")
+    print(f"MODEL: the link saturates first at N = {cap * tiles * per_tile / 1000.0:.0f} workers if the fixed cost "
+          f"were hidden (pipelined with the previous frame); with it, "
+          + ("never" if t_fixed >= 1000.0 / cap else
+             f"at N = {tiles * per_tile / (1000.0 / cap - t_fixed):.0f}"))
     if len(sys.argv) > 2:
         import matplotlib
         matplotlib.use("Agg")

@@ -3,6 +3,8 @@
 #include <catch2/catch.hpp>
 
 #include "accuracy_support.hpp"
+#include "igi/scene/gltf.hpp"
+#include "scenes.hpp"
 
 using namespace igi;
 using namespace igi::testing;
@@ -158,4 +160,21 @@ TEST_CASE("path tracer: bad input is a clear error", "[accuracy][path][errors]")
   CHECK_THROWS_WITH(tracer.render(scene.cameras.front(), 0, 10, 1), Catch::Contains("size"));
   tracer.reset(scene.cameras.front(), 8, 8);
   CHECK_THROWS_WITH(tracer.add_samples(-1), Catch::Contains("spp"));
+}
+
+TEST_CASE("path tracer: real scenes render finite images with every sample valid", "[accuracy][path][scenes]") {
+  // Sponza_lit has alpha-mask foliage (cut-outs in camera, bounce and shadow rays), textures and
+  // punctual lights; the Cornell glTF is the file the Mitsuba comparison uses.
+  for (const char* file : {"sponza/Sponza_lit.gltf", "cornell/cornell_box.gltf"}) {
+    const auto path = scene_path(file);
+    IGI_REQUIRE_SCENE(path);
+    INFO(file);
+    const Scene scene = load_gltf(path);
+    PathTracerStatistics statistics;
+    const Image image = path_trace(scene, 32, 24, 4, {}, &statistics);
+    CHECK(finite(image));
+    CHECK(statistics.invalid_samples == 0);
+    CHECK(mean_of(image) > 0.0);
+    CHECK(statistics.rays.shadow > 0);
+  }
 }

@@ -3,12 +3,15 @@
 /// `QmcVplSampler`: the paper's VPLs, from random walks of light particles driven by a
 /// randomized (scrambled) Halton sequence.
 ///
-/// Per frame and interleaving set, N walks start on the lights. N = max(1, round(M / m)) with
-/// M = vpls_per_set and m the mean number of VPLs one walk leaves in this scene, measured by a
+/// Every set starts with one exact VPL per delta light (point, spot, directional) at its full
+/// intensity: such a light has a single VPL whatever the sample, so each set gets its direct
+/// light exactly. Then N walks start on the lights. N = max(1, round((M - D) / m)) with
+/// M = vpls_per_set, D the number of delta lights, and m the mean number of VPLs one walk leaves
+/// in this scene (walks from delta lights leave none on the light), measured by a
 /// pilot of 256 walks on an independent scrambling of the sequence that depends on the seed but
 /// not on the frame (so N is steady while the scene is, and independent of the frame's walks,
-/// which keeps every set unbiased whatever N is). A set then holds about M VPLs: N on the
-/// lights, the rest where the walks bounced. Walk j of set s uses Halton index s N + j, so the
+/// which keeps every set unbiased whatever N is). A set then holds about M VPLs: D exact ones,
+/// those of walks on area lights, the rest where the walks bounced. Walk j of set s uses Halton index s N + j, so the
 /// sets take consecutive, disjoint blocks of one sequence; the sequence is scrambled by
 /// hash(seed, frame), so VPLs are a pure function of (scene, settings, frame, seed). Dimensions: 0 picks the light
 /// (in proportion to power), 1-2 place the particle, 3-4 direct it, then three per bounce
@@ -16,9 +19,8 @@
 /// counter-based hash of (scrambling seed, index, dimension) continues.
 ///
 /// Normalisation: a particle from light l, chosen with probability p_l, carries flux
-/// power_l / (p_l N). The set's first N VPLs are the particles' origins on the lights (area-light
-/// samples as surface VPLs of intensity flux / pi, point and spot lights as omni / spot VPLs,
-/// directional lights as directional VPLs), so direct light comes out of the same sum. At each
+/// power_l / (p_l N). After the exact VPLs come the particles' origins on area lights (surface
+/// VPLs of intensity flux / pi), so direct light comes out of the same sum. At each
 /// diffuse hit the particle leaves a surface VPL of intensity flux x albedo / pi; it continues
 /// with probability q_d = max(albedo) (diffusely, flux x albedo / q_d), or through the mirror /
 /// glass lobes with probability max(weight) (flux x weight / that), or stops. Every weight is an
@@ -34,6 +36,7 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -54,7 +57,7 @@ namespace igi {
 
 /// Where a VPL came from, parallel to VplSets::sets (for tests and statistics).
 struct VplOrigin {
-  int walk = 0;    ///< Walk index within the set.
+  int walk = 0;    ///< Walk index within the set; -1 for the exact VPL of a delta light.
   int bounce = 0;  ///< 0 on a light, k after k scattering events.
 };
 
@@ -97,23 +100,43 @@ class QmcVplSampler {
 
     const SceneGeometry geometry(scene);
     const StandardBrdf brdf;
+    // Delta lights (point, spot, directional) have one VPL whatever the sample, so instead of a
+    // random share of the walks they light every set exactly: their direct light, hard shadows
+    // included, is then the same in all S^2 sets and neither flickers nor shows the pattern.
+    std::vector<Vpl> exact;
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+      const Vpl vpl = lights.emitter(i).sample_emission(0.5f, 0.5f, 0.5f, 0.5f).vpl;
+      if (vpl.kind != VplKind::surface) exact.push_back(vpl);
+    }
     out.vpls_per_walk = pilot(scene, geometry, tracer, shader, brdf, settings, lights);
-    out.walks_per_set = std::max(1, int(std::lround(double(settings.vpls_per_set) / out.vpls_per_walk)));
+    // The walks fill what the exact VPLs leave of M; at least one walk carries the indirect light,
+    // and at most 16 M walks are spent where particles rarely leave a VPL (mostly escaping).
+    const double budget = std::max(1.0, double(settings.vpls_per_set) - double(exact.size()));
+    const double walks = out.vpls_per_walk > 0.0 ? budget / out.vpls_per_walk : 1.0;
+    out.walks_per_set = int(std::clamp(std::lround(walks), 1L, 16L * long(settings.vpls_per_set)));
     const std::uint32_t scramble = hash(settings.seed, settings.frame);
     const Halton halton(scramble);
     const int n = out.walks_per_set;
     for (int s = 0; s < settings.sets; ++s) {
       std::vector<Vpl>& set = out.vpls.sets[std::size_t(s)];
+      std::vector<VplOrigin>& origins = out.origins[std::size_t(s)];
+      for (const Vpl& vpl : exact) {
+        set.push_back(vpl);
+        origins.push_back({-1, 0});
+      }
       std::vector<Vpl> bounced;
       std::vector<VplOrigin> bounced_origins;
       for (int j = 0; j < n; ++j) {
         const std::uint64_t index = std::uint64_t(s) * std::uint64_t(n) + std::uint64_t(j);
         const auto u = [&](int dimension) { return sample(halton, scramble, dimension, index); };
-        set.push_back(start_walk(scene, geometry, tracer, shader, brdf, settings, lights, n, u, j, bounced, bounced_origins));
-        out.origins[std::size_t(s)].push_back({j, 0});
+        if (const std::optional<Vpl> on_light =
+                start_walk(scene, geometry, tracer, shader, brdf, settings, lights, n, u, j, bounced, bounced_origins)) {
+          set.push_back(*on_light);
+          origins.push_back({j, 0});
+        }
       }
       set.insert(set.end(), bounced.begin(), bounced.end());
-      out.origins[std::size_t(s)].insert(out.origins[std::size_t(s)].end(), bounced_origins.begin(), bounced_origins.end());
+      origins.insert(origins.end(), bounced_origins.begin(), bounced_origins.end());
     }
     return out;
   }
@@ -135,9 +158,9 @@ class QmcVplSampler {
   }
 
   /// Walk `j` of `n`: picks a light and an emission with u(0..4), follows the particle, appends
-  /// its bounce VPLs, and returns the VPL on the light.
+  /// its bounce VPLs, and returns the VPL on the light (none for delta lights, lit exactly).
   template <class Tracer, class Shader, class Sample>
-  static Vpl start_walk(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
+  static std::optional<Vpl> start_walk(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
                         const StandardBrdf& brdf, const VplSettings& settings, const LightSet& lights, int n,
                         const Sample& u, int j, std::vector<Vpl>& bounced, std::vector<VplOrigin>& bounced_origins) {
     const LightSet::Choice choice = lights.choose(u(0));
@@ -147,6 +170,7 @@ class QmcVplSampler {
     light_vpl.intensity *= scale;
     walk(scene, geometry, tracer, shader, brdf, settings, emission.origin, emission.direction, emission.flux * scale, u, j,
          bounced, bounced_origins);
+    if (light_vpl.kind != VplKind::surface) return std::nullopt;
     return light_vpl;
   }
 
@@ -163,11 +187,12 @@ class QmcVplSampler {
     const Halton halton(scramble);
     std::vector<Vpl> bounced;
     std::vector<VplOrigin> origins;
+    int on_lights = 0;
     for (int j = 0; j < pilot_walks; ++j) {
       const auto u = [&](int dimension) { return sample(halton, scramble, dimension, std::uint64_t(j)); };
-      start_walk(scene, geometry, tracer, shader, brdf, settings, lights, pilot_walks, u, j, bounced, origins);
+      if (start_walk(scene, geometry, tracer, shader, brdf, settings, lights, pilot_walks, u, j, bounced, origins)) ++on_lights;
     }
-    return 1.0 + double(bounced.size()) / pilot_walks;
+    return double(on_lights + int(bounced.size())) / pilot_walks;
   }
 
   /// Follows one particle from `origin` along `direction`, appending the VPLs it leaves.
