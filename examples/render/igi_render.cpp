@@ -1,6 +1,7 @@
 // igi-render: renders a glTF scene or the built-in Cornell box with the IGI pipeline (or, later,
 // the reference path tracer) and writes the image; the front door of every measurement.
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -18,6 +19,7 @@
 #include "igi/io/image.hpp"
 #include "igi/lighting/qmc_vpl_sampler.hpp"
 #include "igi/render/filter_choice.hpp"
+#include "igi/render/path_tracer.hpp"
 #include "igi/render/renderer.hpp"
 #include "igi/scene/camera.hpp"
 #include "igi/scene/cornell.hpp"
@@ -66,31 +68,18 @@ double median(std::vector<double> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-/// Renders with backend B and writes the image and statistics.
-template <class B>
-int run(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
-  const igi::GltfMaterialShader surface(scene);
-  const igi::StandardBrdf brdf;
-  const igi::QmcVplSampler sampler;
-  const igi::FilterChoice filter(options.filter);
-  igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::QmcVplSampler, igi::FilterChoice> renderer(
-      scene, options.settings, surface, brdf, sampler, filter);
-  std::vector<double> milliseconds;
-  igi::Frame frame;
-  igi::RayCounts rays;
-  for (int f = 0; f < options.frames; ++f) {
-    frame = renderer.render(camera, std::uint32_t(f));
-    milliseconds.push_back(frame.statistics.milliseconds);
-    rays = frame.statistics.rays;
-  }
+/// Writes the image: PNG gets the tone-mapped pixels, EXR and PFM the linear radiance.
+void write_output(const Options& options, const igi::Image& hdr, const igi::Rgb8Image& rgb8) {
   const std::filesystem::path output(options.output);
-  // PNG gets the tone-mapped pixels; EXR and PFM the linear radiance.
   if (igi::image_format(output) == igi::ImageFormat::png)
-    igi::write_image(output, frame.rgb8);
+    igi::write_image(output, rgb8);
   else
-    igi::write_image(output, frame.hdr);
+    igi::write_image(output, hdr);
+}
 
-  const double ms = median(milliseconds);
+/// Prints the statistics, as one JSON object with --stats json, else as two lines.
+void report(const igi::Scene& scene, const Options& options, const char* backend, int packet, double ms,
+            const igi::RayCounts& rays, const nlohmann::json& extra) {
   const double mrays = ms > 0.0 ? double(rays.total()) / (ms * 1e3) : 0.0;
   const int threads = options.settings.threads > 0 ? options.settings.threads : tbb::info::default_concurrency();
   if (options.stats == "json") {
@@ -106,30 +95,97 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
         {"rays_shadow", rays.shadow},
         {"rays_secondary", rays.secondary},
         {"mrays_per_s", mrays},
-        {"backend", B::name()},
-        {"packet", B::width},
+        {"backend", backend},
+        {"packet", packet},
         {"threads", threads},
-        {"vpls_per_pixel", options.settings.vpls_per_pixel},
-        {"interleave", options.settings.interleave},
-        {"aa", options.settings.antialiasing},
-        {"filter", filter.chosen()},
-        {"clamp", options.settings.clamp_distance},
-        {"vpls_per_frame", frame.statistics.vpls},
-        {"vpl_ms", frame.statistics.vpl_milliseconds},
+        {"integrator", options.integrator},
         {"output", options.output},
     };
+    stats.update(extra);
     std::cout << stats.dump() << std::endl;
-  } else {
-    std::printf("%s: %zu triangles, %dx%d, %s/%d, %d threads, %d VPLs per pixel, S=%d, aa %d, filter %s\n",
-                scene.name.c_str(), scene.triangle_count(), options.settings.width, options.settings.height,
-                B::name(), B::width, threads, options.settings.vpls_per_pixel, options.settings.interleave,
-                options.settings.antialiasing, filter.chosen());
-    std::printf("frame time %.2f ms (median of %d), %.1f fps, %.2f Mrays/s (%llu primary, %llu shadow, %llu secondary)\n",
-                ms, options.frames, ms > 0.0 ? 1000.0 / ms : 0.0, mrays, (unsigned long long)rays.primary,
-                (unsigned long long)rays.shadow, (unsigned long long)rays.secondary);
-    std::printf("wrote %s\n", options.output.c_str());
+    return;
   }
+  std::printf("%s: %zu triangles, %dx%d, %s/%d, %d threads, integrator %s\n", scene.name.c_str(),
+              scene.triangle_count(), options.settings.width, options.settings.height, backend, packet, threads,
+              options.integrator.c_str());
+  std::printf("frame time %.2f ms (median of %d), %.1f fps, %.2f Mrays/s (%llu primary, %llu shadow, %llu secondary)\n",
+              ms, options.frames, ms > 0.0 ? 1000.0 / ms : 0.0, mrays, (unsigned long long)rays.primary,
+              (unsigned long long)rays.shadow, (unsigned long long)rays.secondary);
+  std::printf("wrote %s\n", options.output.c_str());
+}
+
+/// Renders with the IGI pipeline over backend B and writes the image and statistics.
+template <class B>
+int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
+  const igi::GltfMaterialShader surface(scene);
+  const igi::StandardBrdf brdf;
+  const igi::QmcVplSampler sampler;
+  const igi::FilterChoice filter(options.filter);
+  igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::QmcVplSampler, igi::FilterChoice> renderer(
+      scene, options.settings, surface, brdf, sampler, filter);
+  std::vector<double> milliseconds;
+  igi::Frame frame;
+  for (int f = 0; f < options.frames; ++f) {
+    frame = renderer.render(camera, std::uint32_t(f));
+    milliseconds.push_back(frame.statistics.milliseconds);
+  }
+  write_output(options, frame.hdr, frame.rgb8);
+  report(scene, options, B::name(), B::width, median(milliseconds), frame.statistics.rays,
+         {{"vpls_per_pixel", options.settings.vpls_per_pixel},
+          {"interleave", options.settings.interleave},
+          {"aa", options.settings.antialiasing},
+          {"filter", filter.chosen()},
+          {"clamp", options.settings.clamp_distance},
+          {"vpls_per_frame", frame.statistics.vpls},
+          {"vpl_ms", frame.statistics.vpl_milliseconds}});
   return 0;
+}
+
+/// Renders with the reference path tracer over backend B (the frames are passes of --spp each,
+/// accumulated) and writes the image and statistics.
+template <class B>
+int run_path(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
+  const B backend(scene);
+  const igi::GltfMaterialShader surface(scene);
+  const igi::StandardBrdf brdf;
+  igi::PathTracerSettings settings;
+  settings.seed = options.settings.seed;
+  settings.threads = options.settings.threads;
+  igi::PathTracer<B, igi::GltfMaterialShader, igi::StandardBrdf> tracer(scene, backend, surface, brdf, settings);
+  tracer.reset(camera, options.settings.width, options.settings.height);
+  std::vector<double> milliseconds;
+  for (int f = 0; f < options.frames; ++f) {
+    const auto start = std::chrono::steady_clock::now();
+    tracer.add_samples(options.spp);
+    milliseconds.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+  const igi::Image hdr = tracer.image();
+  // A converged reference has no previous frame: it is tone mapped with its own statistics.
+  igi::LuminanceStatistics luminance;
+  for (const glm::vec3& p : hdr.pixels) luminance.add(p);
+  const igi::ToneMapping tone = igi::ToneMapping::from(luminance);
+  igi::Rgb8Image rgb8(hdr.width, hdr.height);
+  for (int y = 0; y < hdr.height; ++y)
+    for (int x = 0; x < hdr.width; ++x) {
+      const glm::u8vec3 q = igi::quantize_srgb(tone.apply(hdr(x, y)));
+      std::uint8_t* p = rgb8.pixel(x, y);
+      p[0] = q.r;
+      p[1] = q.g;
+      p[2] = q.b;
+    }
+  write_output(options, hdr, rgb8);
+  igi::RayCounts per_pass = tracer.statistics().rays;
+  const auto passes = std::uint64_t(options.frames);
+  per_pass = {per_pass.primary / passes, per_pass.shadow / passes, per_pass.secondary / passes};
+  report(scene, options, B::name(), B::width, median(milliseconds), per_pass,
+         {{"spp", options.spp}, {"spp_total", tracer.samples()}});
+  return 0;
+}
+
+/// Runs the chosen integrator over backend B.
+template <class B>
+int run(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
+  return options.integrator == "path" ? run_path<B>(scene, camera, options) : run_igi<B>(scene, camera, options);
 }
 
 /// Chooses the backend type from the options.
@@ -168,7 +224,7 @@ int main(int argc, char** argv) {
   app.add_option("--backend", options.backend, "ray-tracing backend")->check(CLI::IsMember({"embree", "saarcor", "reference"}))->capture_default_str();
   app.add_option("--packet", options.packet, "packet width W")->check(CLI::IsMember({1, 4, 8, 16, 64}))->capture_default_str();
   app.add_option("--threads", options.settings.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
-  app.add_option("--frames", options.frames, "frames to render (timings are their median)")->check(CLI::Range(1, 100000))->capture_default_str();
+  app.add_option("--frames", options.frames, "frames to render (timings are their median; with --integrator path: passes of --spp samples)")->check(CLI::Range(1, 100000))->capture_default_str();
   app.add_option("--integrator", options.integrator, "igi, or path for the reference path tracer")->check(CLI::IsMember({"igi", "path"}))->capture_default_str();
   app.add_option("--spp", options.spp, "samples per pixel of the path tracer")->check(CLI::Range(1, 1 << 20))->capture_default_str();
   app.add_option("--camera", options.camera, "glTF camera name (default: the file's first, else a fitted view)");
@@ -186,8 +242,6 @@ int main(int argc, char** argv) {
     parse_size(options.size, options.settings);
     if (options.scene_file.empty() == options.builtin.empty())
       throw UsageError("give either a SCENE file or --builtin cornell");
-    if (options.integrator == "path")
-      throw UsageError("--integrator path: the reference path tracer is not part of igi-render yet");
     igi::validate(options.settings);
   } catch (const std::exception& e) {
     std::cerr << "igi-render: " << e.what() << "\n";

@@ -33,26 +33,33 @@ class ByteWriter {
   template <class T>
     requires std::is_trivially_copyable_v<T>
   void put(const T& value) {
-    const auto* bytes = reinterpret_cast<const std::uint8_t*>(&value);
-    buffer_.insert(buffer_.end(), bytes, bytes + sizeof(T));
+    append(&value, sizeof(T));
   }
   /// Appends a length-prefixed string.
   void put_string(const std::string& text) {
     put(std::uint64_t(text.size()));
-    buffer_.insert(buffer_.end(), text.begin(), text.end());
+    append(text.data(), text.size());
   }
   /// Appends a length-prefixed array of trivially copyable values.
   template <class T>
     requires std::is_trivially_copyable_v<T>
   void put_array(const std::vector<T>& values) {
     put(std::uint64_t(values.size()));
-    const auto* bytes = reinterpret_cast<const std::uint8_t*>(values.data());
-    buffer_.insert(buffer_.end(), bytes, bytes + values.size() * sizeof(T));
+    append(values.data(), values.size() * sizeof(T));
   }
+  /// Makes room for `size` more bytes without reallocating.
+  void reserve(std::size_t size) { buffer_.reserve(buffer_.size() + size); }
   /// The bytes written so far.
   std::vector<std::uint8_t>& bytes() noexcept { return buffer_; }
 
  private:
+  /// Appends raw bytes (resize + memcpy: GCC 12 misreads vector::insert of small ranges as overflow).
+  void append(const void* data, std::size_t size) {
+    if (size == 0) return;
+    const std::size_t at = buffer_.size();
+    buffer_.resize(at + size);
+    std::memcpy(buffer_.data() + at, data, size);
+  }
   std::vector<std::uint8_t> buffer_;
 };
 
@@ -257,6 +264,8 @@ inline FrameHeader decode_frame_header(const std::vector<std::uint8_t>& bytes) {
 /// Encodes a finished tile.
 inline std::vector<std::uint8_t> encode(const TileMessage& tile) {
   ByteWriter out;
+  // 76 fixed bytes (see the fields below) plus the pixels: one allocation per tile.
+  out.reserve(76 + tile.rgb8.size() * sizeof(glm::u8vec3) + tile.hdr.size() * sizeof(glm::vec3));
   out.put(tile.tile);
   out.put(tile.frame);
   out.put(tile.rays.primary);
