@@ -1,8 +1,8 @@
 // igi-cluster: the tile farm on MPI. Run as `mpirun -np N igi-cluster [igi-render options] --frames F`.
 // Rank 0 hands out tiles on demand and writes the image of the last frame (or of every frame);
 // ranks 1..N-1 render, filter and tone map tiles. Reports per frame: fps, bytes sent to rank 0 and
-// tiles per worker. Options match igi-render's (its parser is private to igi_render.cpp, so it is
-// repeated here), plus --frames, --animate, --every-frame and the --slow-rank test hook.
+// tiles per worker. Options are igi-render's (examples/common/render_options.hpp), plus
+// --animate, --every-frame, the scheduling knobs and the --slow-rank test hook.
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -13,56 +13,24 @@
 #include <nlohmann/json.hpp>
 #include <oneapi/tbb/info.h>
 
-#include "igi/backends/embree/embree_backend.hpp"
-#include "igi/backends/reference/reference_backend.hpp"
-#include "igi/backends/saarcor/saarcor_backend.hpp"
+#include "common/render_options.hpp"
 #include "igi/distributed/animation.hpp"
 #include "igi/distributed/tile_farm.hpp"
-#include "igi/io/image.hpp"
 #include "igi/lighting/qmc_vpl_sampler.hpp"
 #include "igi/render/filter_choice.hpp"
-#include "igi/scene/camera.hpp"
-#include "igi/scene/cornell.hpp"
-#include "igi/scene/gltf.hpp"
 #include "igi/shading/brdf_shaders.hpp"
 #include "igi/shading/gltf_material_shader.hpp"
 
 namespace {
 
-/// Everything the command line decides.
-struct Options {
-  std::string scene_file;
-  std::string builtin;
-  std::string output = "out.png";
-  std::string size = "640x480";
-  std::string filter = "discontinuity";
-  std::string backend = "embree";
-  std::string integrator = "igi";
-  std::string camera;
-  std::string stats;
-  std::string animate = "none";
-  int packet = 16;
-  int frames = 1;
-  int spp = 16;
-  bool every_frame = false;
-  igi::FarmOptions farm;
-  igi::RenderSettings settings;
-};
+using namespace igi::programs;
 
-/// A usage error: exit code 2 with a one-line message.
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
+/// Everything the command line decides: igi-render's options and the farm's.
+struct Options : RenderOptions {
+  std::string animate = "none";  ///< Dynamic scene, if any.
+  bool every_frame = false;      ///< Write every frame, not only the last.
+  igi::FarmOptions farm;         ///< Demand-driven scheduling knobs and the slow-rank test hook.
 };
-
-/// Parses "WIDTHxHEIGHT".
-void parse_size(const std::string& text, igi::RenderSettings& settings) {
-  int width = 0, height = 0;
-  char x = 0, rest = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || (x != 'x' && x != 'X'))
-    throw UsageError("--size: '" + text + "' is not WIDTHxHEIGHT");
-  settings.width = width;
-  settings.height = height;
-}
 
 /// Where frame `index` goes with --every-frame: "<stem>_<index, 4 digits><extension>".
 std::filesystem::path frame_path(const std::filesystem::path& output, std::uint32_t index) {
@@ -72,12 +40,7 @@ std::filesystem::path frame_path(const std::filesystem::path& output, std::uint3
 }
 
 /// Writes a frame as igi-render does: PNG gets the tone-mapped pixels, EXR and PFM the radiance.
-void write_frame(const std::filesystem::path& path, const igi::Frame& frame) {
-  if (igi::image_format(path) == igi::ImageFormat::png)
-    igi::write_image(path, frame.rgb8);
-  else
-    igi::write_image(path, frame.hdr);
-}
+void write_frame(const std::filesystem::path& path, const igi::Frame& frame) { write_output(path, frame.hdr, frame.rgb8); }
 
 /// Runs the farm with backend B on this rank.
 template <class B>
@@ -158,25 +121,6 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
   return 0;
 }
 
-/// Chooses the backend type from the options.
-int dispatch(igi::Scene& scene, const igi::Camera& camera, const Options& options, int rank) {
-  const int p = options.packet;
-  if (options.backend == "saarcor") {
-    if (p != 16 && p != 64) throw UsageError("--packet: the saarcor backend traces 8x8 = 64-ray packets only");
-    return run<igi::SaarcorBackend>(scene, camera, options, rank);
-  }
-  if (options.backend == "embree") {
-    if (p == 1) return run<igi::EmbreeBackend<1>>(scene, camera, options, rank);
-    if (p == 4) return run<igi::EmbreeBackend<4>>(scene, camera, options, rank);
-    if (p == 8) return run<igi::EmbreeBackend<8>>(scene, camera, options, rank);
-    return run<igi::EmbreeBackend<16>>(scene, camera, options, rank);
-  }
-  if (p == 1) return run<igi::ReferenceBackend<1>>(scene, camera, options, rank);
-  if (p == 4) return run<igi::ReferenceBackend<4>>(scene, camera, options, rank);
-  if (p == 8) return run<igi::ReferenceBackend<8>>(scene, camera, options, rank);
-  return run<igi::ReferenceBackend<16>>(scene, camera, options, rank);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -184,24 +128,7 @@ int main(int argc, char** argv) {
   const int rank = mpi.rank();
   Options options;
   CLI::App app{"igi-cluster: igi-render's IGI pipeline as the paper's tile farm on MPI (mpirun -np N igi-cluster ...)"};
-  app.add_option("scene", options.scene_file, "glTF scene (.gltf or .glb)");
-  app.add_option("--builtin", options.builtin, "built-in scene instead of a file")->check(CLI::IsMember({"cornell"}));
-  app.add_option("-o,--output", options.output, "output image of the last frame: .png (tone mapped), .exr or .pfm (HDR)")->capture_default_str();
-  app.add_option("--size", options.size, "image size WIDTHxHEIGHT")->capture_default_str();
-  app.add_option("--vpls", options.settings.vpls_per_pixel, "VPLs per pixel (M, the size of one interleaving set)")->capture_default_str();
-  app.add_option("--interleave", options.settings.interleave, "interleaving pattern size S (S x S VPL sets)")->capture_default_str();
-  app.add_option("--aa", options.settings.antialiasing, "primary rays per pixel N (interleaved super-sampling)")->capture_default_str();
-  app.add_option("--filter", options.filter, "irradiance filter")->check(CLI::IsMember({"discontinuity", "box", "none"}))->capture_default_str();
-  app.add_option("--clamp", options.settings.clamp_distance, "minimum VPL distance in 1/d^2 (negative: 2% of the scene diagonal)")->capture_default_str();
-  app.add_option("--backend", options.backend, "ray-tracing backend")->check(CLI::IsMember({"embree", "saarcor", "reference"}))->capture_default_str();
-  app.add_option("--packet", options.packet, "packet width W")->check(CLI::IsMember({1, 4, 8, 16, 64}))->capture_default_str();
-  app.add_option("--threads", options.settings.threads, "threads per rank (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
-  app.add_option("--frames", options.frames, "frames to render (indices 0..F-1)")->check(CLI::Range(1, 100000))->capture_default_str();
-  app.add_option("--integrator", options.integrator, "igi (the path tracer does not run on the farm)")->check(CLI::IsMember({"igi", "path"}))->capture_default_str();
-  app.add_option("--spp", options.spp, "samples per pixel of the path tracer (unused by the farm)")->check(CLI::Range(1, 1 << 20))->capture_default_str();
-  app.add_option("--camera", options.camera, "glTF camera name (default: the file's first, else a fitted view)");
-  app.add_option("--seed", options.settings.seed, "randomisation seed")->capture_default_str();
-  app.add_option("--stats", options.stats, "print statistics (with per-frame reports) as one JSON object on stdout")->check(CLI::IsMember({"json"}));
+  add_render_options(app, options, "threads per rank (0: all cores)", "frames to render (indices 0..F-1)");
   app.add_option("--animate", options.animate, "dynamic scene: a deterministic function of the frame index")->check(CLI::IsMember({"none", "light", "camera", "object"}))->capture_default_str();
   app.add_flag("--every-frame", options.every_frame, "also write every frame as <stem>_NNNN<ext>");
   app.add_option("--tile", options.settings.tile_size, "tile edge in pixels")->check(CLI::Range(4, 1024))->capture_default_str();
@@ -222,31 +149,20 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    parse_size(options.size, options.settings);
-    if (options.scene_file.empty() == options.builtin.empty())
-      throw UsageError("give either a SCENE file or --builtin cornell");
+    check_render_options(options);
     if (options.integrator == "path") throw UsageError("--integrator path: the path tracer does not run on the farm");
     if (options.farm.slow_rank >= mpi.size())
       throw UsageError("--slow-rank " + std::to_string(options.farm.slow_rank) + ": there are only " +
                        std::to_string(mpi.size()) + " ranks");
     igi::parse_animation(options.animate);
-    igi::validate(options.settings);
-    igi::image_format(options.output);
   } catch (const std::exception& e) {
     say(e.what());
     return 2;
   }
   try {
-    igi::Scene scene = options.builtin.empty() ? igi::load_gltf(options.scene_file) : igi::cornell_box();
-    igi::Camera camera;
-    if (!options.camera.empty()) {
-      const igi::Camera* named = igi::find_camera(scene, options.camera);
-      if (!named) throw UsageError("--camera: no camera named '" + options.camera + "' in " + scene.name);
-      camera = *named;
-    } else {
-      camera = scene.cameras.empty() ? igi::default_camera(scene) : scene.cameras.front();
-    }
-    return dispatch(scene, camera, options, rank);
+    igi::Scene scene = load_scene(options);
+    const igi::Camera camera = choose_camera(scene, options);
+    return with_backend(options, [&]<class B>() { return run<B>(scene, camera, options, rank); });
   } catch (const std::exception& e) {
     // Every rank fails the same way on a bad scene; a rank alone failing must not leave others waiting.
     std::cerr << "igi-cluster (rank " << rank << "): " << e.what() << "\n";

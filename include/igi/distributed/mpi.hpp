@@ -38,8 +38,8 @@ class MpiSession {
     // Errors come back as codes so check_mpi can turn them into exceptions with a message.
     MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
   }
-  MpiSession(const MpiSession&) = delete;
-  MpiSession& operator=(const MpiSession&) = delete;
+  MpiSession(const MpiSession&) = delete;             ///< One session per process: not copyable.
+  MpiSession& operator=(const MpiSession&) = delete;  ///< Not assignable.
   /// Calls MPI_Finalize.
   ~MpiSession() { MPI_Finalize(); }
   /// This process's rank in MPI_COMM_WORLD.

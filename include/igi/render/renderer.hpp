@@ -12,6 +12,7 @@
 #include <mutex>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
@@ -56,10 +57,11 @@ class Renderer {
   /// The pipeline type this renderer runs.
   using PipelineType = Pipeline<B, Surface, Brdf, Sampler, F>;
 
-  /// Builds the backend for `scene`; throws SettingsError for unusable settings.
+  /// Builds the backend for `scene`; throws SettingsError for unusable settings and
+  /// std::invalid_argument for a scene without triangles.
   Renderer(Scene& scene, const RenderSettings& settings, const Surface& surface, const Brdf& brdf,
            const Sampler& sampler, const F& filter)
-      : scene_(&scene),
+      : scene_((require_geometry(scene), &scene)),
         settings_((validate(settings), settings)),
         backend_(std::make_unique<B>(scene)),
         sampler_(&sampler),
@@ -177,6 +179,11 @@ class Renderer {
   const RenderSettings& settings() const noexcept { return settings_; }
 
  private:
+  /// Throws unless `scene` has something to render.
+  static void require_geometry(const Scene& scene) {
+    if (scene.triangle_count() == 0)
+      throw std::invalid_argument("scene '" + scene.name + "' has no geometry: no triangles to render");
+  }
   /// Copies a tile's pixels into the frame.
   static void place(const TileResult& tile, Frame& frame) {
     std::size_t from = 0;

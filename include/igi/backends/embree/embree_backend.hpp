@@ -384,11 +384,12 @@ class EmbreeBackend {
     // Embree's, checked above) is copied in and the active lanes' results copied back.
     alignas(packet_alignment) EmbreeRayHit both;
     std::memcpy(&both.ray, &rays, sizeof(EmbreeRay));
-    auto* hit_lanes = reinterpret_cast<HitPacket<N>*>(&both.hit);
-    for (int lane = 0; lane < N; ++lane) {
-      hit_lanes->geomID[lane] = hit_lanes->primID[lane] = hit_lanes->instID[lane] = invalid_id;
-      hit_lanes->Ng_x[lane] = hit_lanes->Ng_y[lane] = hit_lanes->Ng_z[lane] = hit_lanes->u[lane] = hit_lanes->v[lane] = 0.0f;
-    }
+    // Embree's hit block is laid out as HitPacket (checked above) but, in RTCRayHit (N = 1), only
+    // 16-byte aligned: it is filled and read through aligned copies, never through a cast.
+    static_assert(sizeof(both.hit) <= sizeof(HitPacket<N>));
+    HitPacket<N> lanes_out;
+    lanes_out.clear();
+    std::memcpy(&both.hit, &lanes_out, sizeof(both.hit));
     RTCIntersectContext ctx = context<N>(coherence);
     const ValidLanes<N> valid = valid_lanes(rays, mask);
     if constexpr (N == 1) {
@@ -400,6 +401,8 @@ class EmbreeBackend {
     } else {
       rtcIntersect16(valid.data(), top, &ctx, &both);
     }
+    std::memcpy(&lanes_out, &both.hit, sizeof(both.hit));
+    const HitPacket<N>* hit_lanes = &lanes_out;
     const auto* traced = reinterpret_cast<const RayPacket<N>*>(&both.ray);
     for (int lane = 0; lane < N; ++lane) {
       if (!mask[lane]) continue;

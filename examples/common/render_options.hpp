@@ -1,0 +1,124 @@
+#pragma once
+// The command line igi-render and igi-cluster share: scene, camera, image, IGI settings and the
+// backend choice, parsed with CLI11, plus the scene loading and backend dispatch that follow it.
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "igi/backends/embree/embree_backend.hpp"
+#include "igi/backends/reference/reference_backend.hpp"
+#include "igi/backends/saarcor/saarcor_backend.hpp"
+#include "igi/io/image.hpp"
+#include "igi/render/settings.hpp"
+#include "igi/scene/camera.hpp"
+#include "igi/scene/cornell.hpp"
+#include "igi/scene/gltf.hpp"
+
+namespace igi::programs {
+
+/// A usage error: exit code 2 with a one-line message.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// What the shared options decide.
+struct RenderOptions {
+  std::string scene_file;               ///< glTF file, or empty with --builtin.
+  std::string builtin;                  ///< "cornell", or empty with a file.
+  std::string output = "out.png";       ///< Image to write.
+  std::string size = "640x480";         ///< WIDTHxHEIGHT as typed.
+  std::string filter = "discontinuity"; ///< Filter name.
+  std::string backend = "embree";       ///< Backend name.
+  std::string integrator = "igi";       ///< igi or path.
+  std::string camera;                   ///< glTF camera name, or empty.
+  std::string stats;                    ///< "json" or empty.
+  int packet = 16;                      ///< Packet width.
+  int frames = 1;                       ///< Frames (or path-tracer passes).
+  int spp = 16;                         ///< Path-tracer samples per pixel per pass.
+  RenderSettings settings;              ///< The IGI settings.
+};
+
+/// Adds the shared options to `app`; `threads_help` and `frames_help` let a program word those two.
+inline void add_render_options(CLI::App& app, RenderOptions& o, const std::string& threads_help,
+                               const std::string& frames_help) {
+  app.add_option("scene", o.scene_file, "glTF scene (.gltf or .glb)");
+  app.add_option("--builtin", o.builtin, "built-in scene instead of a file")->check(CLI::IsMember({"cornell"}));
+  app.add_option("-o,--output", o.output, "output image: .png (tone mapped), .exr or .pfm (HDR)")->capture_default_str();
+  app.add_option("--size", o.size, "image size WIDTHxHEIGHT")->capture_default_str();
+  app.add_option("--vpls", o.settings.vpls_per_pixel, "VPLs per pixel (M, the size of one interleaving set)")->capture_default_str();
+  app.add_option("--interleave", o.settings.interleave, "interleaving pattern size S (S x S VPL sets)")->capture_default_str();
+  app.add_option("--aa", o.settings.antialiasing, "primary rays per pixel N (interleaved super-sampling)")->capture_default_str();
+  app.add_option("--filter", o.filter, "irradiance filter")->check(CLI::IsMember({"discontinuity", "box", "none"}))->capture_default_str();
+  app.add_option("--clamp", o.settings.clamp_distance, "minimum VPL distance in 1/d^2 (negative: 2% of the scene diagonal)")->capture_default_str();
+  app.add_option("--backend", o.backend, "ray-tracing backend")->check(CLI::IsMember({"embree", "saarcor", "reference"}))->capture_default_str();
+  app.add_option("--packet", o.packet, "packet width W")->check(CLI::IsMember({1, 4, 8, 16, 64}))->capture_default_str();
+  app.add_option("--threads", o.settings.threads, threads_help)->check(CLI::Range(0, 1024))->capture_default_str();
+  app.add_option("--frames", o.frames, frames_help)->check(CLI::Range(1, 100000))->capture_default_str();
+  app.add_option("--integrator", o.integrator, "igi, or path for the reference path tracer")->check(CLI::IsMember({"igi", "path"}))->capture_default_str();
+  app.add_option("--spp", o.spp, "samples per pixel of the path tracer")->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  app.add_option("--camera", o.camera, "glTF camera name (default: the file's first, else a fitted view)");
+  app.add_option("--seed", o.settings.seed, "randomisation seed")->capture_default_str();
+  app.add_option("--stats", o.stats, "print statistics as one JSON object on stdout")->check(CLI::IsMember({"json"}));
+}
+
+/// Checks what CLI11 cannot: the size, scene xor --builtin, the settings, the output format.
+inline void check_render_options(RenderOptions& o) {
+  int width = 0, height = 0;
+  char x = 0, rest = 0;
+  if (std::sscanf(o.size.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || (x != 'x' && x != 'X'))
+    throw UsageError("--size: '" + o.size + "' is not WIDTHxHEIGHT");
+  o.settings.width = width;
+  o.settings.height = height;
+  if (o.scene_file.empty() == o.builtin.empty()) throw UsageError("give either a SCENE file or --builtin cornell");
+  validate(o.settings);
+  image_format(o.output);
+}
+
+/// The scene the options name.
+inline Scene load_scene(const RenderOptions& o) { return o.builtin.empty() ? load_gltf(o.scene_file) : cornell_box(); }
+
+/// The camera the options name: --camera, else the scene's first, else one fitted to the scene.
+inline Camera choose_camera(const Scene& scene, const RenderOptions& o) {
+  if (!o.camera.empty()) {
+    const Camera* named = find_camera(scene, o.camera);
+    if (!named) throw UsageError("--camera: no camera named '" + o.camera + "' in " + scene.name);
+    return *named;
+  }
+  return scene.cameras.empty() ? default_camera(scene) : scene.cameras.front();
+}
+
+/// Calls `run.template operator()<B>()` with the backend type B the options choose.
+template <class Run>
+int with_backend(const RenderOptions& o, Run&& run) {
+  const int p = o.packet;
+  if (o.backend == "saarcor") {
+    if (p != 16 && p != 64) throw UsageError("--packet: the saarcor backend traces 8x8 = 64-ray packets only");
+    return run.template operator()<SaarcorBackend>();
+  }
+  if (o.backend == "embree") {
+    if (p == 1) return run.template operator()<EmbreeBackend<1>>();
+    if (p == 4) return run.template operator()<EmbreeBackend<4>>();
+    if (p == 8) return run.template operator()<EmbreeBackend<8>>();
+    if (p == 64) throw UsageError("--packet 64: Embree traces packets of 1, 4, 8 or 16 rays (64 is saarcor's)");
+    return run.template operator()<EmbreeBackend<16>>();
+  }
+  if (p == 1) return run.template operator()<ReferenceBackend<1>>();
+  if (p == 4) return run.template operator()<ReferenceBackend<4>>();
+  if (p == 8) return run.template operator()<ReferenceBackend<8>>();
+  if (p == 64) throw UsageError("--packet 64: the reference backend is built for packets of 1, 4, 8 or 16 rays");
+  return run.template operator()<ReferenceBackend<16>>();
+}
+
+/// Writes an image: PNG gets the tone-mapped pixels, EXR and PFM the linear radiance.
+inline void write_output(const std::filesystem::path& path, const Image& hdr, const Rgb8Image& rgb8) {
+  if (image_format(path) == ImageFormat::png)
+    write_image(path, rgb8);
+  else
+    write_image(path, hdr);
+}
+
+}  // namespace igi::programs
