@@ -380,8 +380,30 @@ class EmbreeBackend {
                             const vmask<N>& mask) {
     using EmbreeRay = typename detail::EmbreePacketTypes<N>::Ray;
     using EmbreeRayHit = typename detail::EmbreePacketTypes<N>::RayHit;
-    // Embree wants ray and hit adjacent; ours are separate objects, so the ray block (laid out as
-    // Embree's, checked above) is copied in and the active lanes' results copied back.
+    RTCIntersectContext ctx = context<N>(coherence);
+    const ValidLanes<N> valid = valid_lanes(rays, mask);
+    // Where the hits follow the rays in memory exactly as in Embree's RTCRayHitN (the pipeline's
+    // stream packets are laid out so for W = 4, 8, 16), Embree traces them in place.
+    if constexpr (offsetof(EmbreeRayHit, hit) == sizeof(RayPacket<N>)) {
+      if (reinterpret_cast<const char*>(&hits) == reinterpret_cast<const char*>(&rays) + sizeof(RayPacket<N>)) {
+        // Embree writes nothing on a miss: active lanes start as misses.
+        for (int lane = 0; lane < N; ++lane)
+          if (mask[lane]) hits.geomID[lane] = hits.primID[lane] = hits.instID[lane] = invalid_id;
+        auto* in_place = reinterpret_cast<EmbreeRayHit*>(&rays);
+        if constexpr (N == 4) {
+          rtcIntersect4(valid.data(), top, &ctx, in_place);
+        } else if constexpr (N == 8) {
+          rtcIntersect8(valid.data(), top, &ctx, in_place);
+        } else if constexpr (N == 16) {
+          rtcIntersect16(valid.data(), top, &ctx, in_place);
+        } else {
+          if (valid[0]) rtcIntersect1(top, &ctx, in_place);
+        }
+        return;
+      }
+    }
+    // Otherwise the ray block (laid out as Embree's, checked above) is copied next to a hit block
+    // and the active lanes' results copied back.
     alignas(packet_alignment) EmbreeRayHit both;
     std::memcpy(&both.ray, &rays, sizeof(EmbreeRay));
     // Embree's hit block is laid out as HitPacket (checked above) but, in RTCRayHit (N = 1), only
@@ -390,8 +412,6 @@ class EmbreeBackend {
     HitPacket<N> lanes_out;
     lanes_out.clear();
     std::memcpy(&both.hit, &lanes_out, sizeof(both.hit));
-    RTCIntersectContext ctx = context<N>(coherence);
-    const ValidLanes<N> valid = valid_lanes(rays, mask);
     if constexpr (N == 1) {
       if (valid[0]) rtcIntersect1(top, &ctx, &both);
     } else if constexpr (N == 4) {
