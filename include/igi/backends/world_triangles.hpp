@@ -140,7 +140,7 @@ struct ShearedRay {
   float sx = 0, sy = 0, sz = 0;  ///< Shear constants.
   bool usable = false;  ///< False for a zero or non-finite direction, which hits nothing.
 
-  /// A ray that hits nothing (placeholder for unused lanes).
+  /// A ray that hits nothing (what unused lanes carry).
   ShearedRay() = default;
   /// Prepares `ray` for triangle tests.
   explicit ShearedRay(const Ray& ray) noexcept : origin(ray.origin) {

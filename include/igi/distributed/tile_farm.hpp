@@ -142,7 +142,7 @@ class TileFarm {
     const ToneMapping next = ToneMapping::from(report_.luminance);
     if (!tone_mapping_) {
       for (int y = 0; y < frame.height; ++y)
-        for (int x = 0; x < frame.width; ++x) store(frame.rgb8, x, y, quantize_srgb(next.apply(frame.hdr(x, y))));
+        for (int x = 0; x < frame.width; ++x) store_pixel(frame.rgb8, x, y, quantize_srgb(next.apply(frame.hdr(x, y))));
     }
     tone_mapping_ = next;
     frame.statistics.rays = report_.rays;
@@ -240,7 +240,7 @@ class TileFarm {
     std::vector<TileResult> results;
     std::vector<double> milliseconds(count, 0.0);
     renderer_->render_all(all, results, [&](std::size_t i, TileResult& result, double ms) {
-      place(result, frame);  // tiles are disjoint: no lock needed
+      place_tile(result, frame);  // tiles are disjoint: no lock needed
       tile_luminance_[i] = result.luminance;
       tile_rays_[i] = result.rays;
       milliseconds[i] = ms;
@@ -282,7 +282,7 @@ class TileFarm {
         std::size_t from = 0;
         for (int y = rect.y0; y < rect.y1; ++y)
           for (int x = rect.x0; x < rect.x1; ++x, ++from) {
-            store(frame.rgb8, x, y, message.rgb8[from]);
+            store_pixel(frame.rgb8, x, y, message.rgb8[from]);
             if (header.send_hdr) frame.hdr(x, y) = message.hdr[from];
           }
         received[std::size_t(message.tile)] = 1;
@@ -318,23 +318,6 @@ class TileFarm {
       throw DistributedError("tile " + std::to_string(message.tile) + from + " has " +
                              std::to_string(message.rgb8.size()) + " RGB8 and " + std::to_string(message.hdr.size()) +
                              " HDR pixels; expected " + std::to_string(pixels));
-  }
-
-  /// Copies a tile's pixels into the frame.
-  static void place(const TileResult& tile, Frame& frame) {
-    std::size_t from = 0;
-    for (int y = tile.rect.y0; y < tile.rect.y1; ++y)
-      for (int x = tile.rect.x0; x < tile.rect.x1; ++x, ++from) {
-        frame.hdr(x, y) = tile.hdr[from];
-        store(frame.rgb8, x, y, tile.rgb8[from]);
-      }
-  }
-  /// Writes one 8-bit pixel.
-  static void store(Rgb8Image& image, int x, int y, const glm::u8vec3& rgb) noexcept {
-    std::uint8_t* p = image.pixel(x, y);
-    p[0] = rgb.r;
-    p[1] = rgb.g;
-    p[2] = rgb.b;
   }
 
   MPI_Comm comm_;

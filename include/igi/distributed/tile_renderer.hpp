@@ -61,40 +61,17 @@ class TileRenderer {
       backend_->commit();
       dirty_ = false;
     }
-    VplSettings vpl_settings;
-    vpl_settings.sets = settings_.interleave * settings_.interleave;
-    vpl_settings.vpls_per_set = settings_.vpls_per_pixel;
-    vpl_settings.frame = index;
-    vpl_settings.seed = settings_.seed;
-    vpl_settings.max_bounces = settings_.max_bounces;
-    {
-      const FlushDenormals flush;  // as Renderer does, so VPLs match single-process frames bit for bit
-      vpls_ = sampler_->generate(*scene_, *backend_, vpl_settings);
-    }
-    geometry_.update(*scene_);
-    projection_.emplace(camera_, settings_.width, settings_.height);
-    context_ = FrameContext{};
-    context_.scene = scene_;
-    context_.geometry = &geometry_;
-    context_.projection = &*projection_;
-    context_.vpls = &vpls_;
-    context_.settings = settings_;
-    // Clamp and ray offsets as Renderer::render derives them, so tiles match single-process frames.
-    const Bounds bounds = scene_->bounds();
-    const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
-    context_.clamp_distance = resolve_clamp(settings_, diagonal);
-    const float reach = bounds.empty() ? 1.0f : std::max(glm::length(bounds.lower), glm::length(bounds.upper));
-    context_.ray_epsilon = 1e-5f * (diagonal + reach);  // Renderer's choice: above float rounding, below features
-    context_.tone_mapping = tone_mapping;
+    // The same frame set-up as Renderer::render, so tiles match single-process frames bit for bit.
+    frame_.prepare(*scene_, *backend_, *sampler_, settings_, camera_, index, tone_mapping);
   }
 
   /// Renders tile `tile` of the current frame into `out` (any thread; each has its own workspace).
   void render(int tile, TileResult& out) {
     if (tile < 0 || std::size_t(tile) >= tiles_.size())
       throw DistributedError("tile " + std::to_string(tile) + " is outside 0.." + std::to_string(tiles_.size() - 1));
-    if (!projection_) throw DistributedError("TileRenderer::render called before begin_frame");
+    if (!frame_.projection) throw DistributedError("TileRenderer::render called before begin_frame");
     const FlushDenormals flush;  // as Renderer's tile tasks do
-    pipeline_.render_tile(context_, tiles_[std::size_t(tile)], workspaces_.local(), out);
+    pipeline_.render_tile(frame_.context, tiles_[std::size_t(tile)], workspaces_.local(), out);
   }
 
   /// Renders the given tiles in parallel on this renderer's threads (one tile per task, demand
@@ -124,11 +101,7 @@ class TileRenderer {
   /// The scene as of the last apply().
   const Scene& scene() const noexcept { return *scene_; }
   /// VPLs in all sets of the current frame.
-  int vpl_count() const noexcept {
-    int n = 0;
-    for (const auto& set : vpls_.sets) n += int(set.size());
-    return n;
-  }
+  int vpl_count() const noexcept { return frame_.vpl_count(); }
 
  private:
   Scene* scene_;
@@ -140,10 +113,7 @@ class TileRenderer {
   std::vector<PixelRect> tiles_;
   tbb::enumerable_thread_specific<typename PipelineType::Workspace> workspaces_;
   Camera camera_;
-  VplSets vpls_;
-  SceneGeometry geometry_;
-  std::optional<PinholeProjection> projection_;
-  FrameContext context_;
+  FrameState frame_;
   bool dirty_ = false;
 };
 

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -23,6 +24,7 @@
 #include "igi/backends/backend.hpp"
 #include "igi/filters/filter.hpp"
 #include "igi/lighting/vpl_sampler.hpp"
+#include "igi/render/float_mode.hpp"
 #include "igi/render/interleaving.hpp"
 #include "igi/render/settings.hpp"
 #include "igi/render/tone_mapping.hpp"
@@ -43,6 +45,58 @@ struct FrameContext {
   float clamp_distance = 0.0f;        ///< Resolved minimum VPL distance.
   float ray_epsilon = 1e-4f;          ///< Offset of secondary and shadow ray origins off surfaces.
   ToneMapping tone_mapping;           ///< Parameters from the previous frame.
+};
+
+/// What a frame's tiles share, built once per frame by `prepare`: the VPL sets, the instance
+/// matrices, the projection, and the FrameContext pointing at them (so it is not copyable).
+struct FrameState {
+  VplSets vpls;                                ///< This frame's VPL sets.
+  SceneGeometry geometry;                      ///< Instance matrices as of this frame.
+  std::optional<PinholeProjection> projection; ///< Primary-ray generator.
+  FrameContext context;                        ///< What render_tile reads.
+
+  FrameState() = default;
+  FrameState(const FrameState&) = delete;             ///< The context points into this object.
+  FrameState& operator=(const FrameState&) = delete;  ///< The context points into this object.
+
+  /// Builds frame `index` of `scene` (committed in `backend`) seen by `camera`, to be tone mapped
+  /// with `tone_mapping`: VPLs from `sampler`, clamp and ray offsets from the scene's bounds.
+  template <class B, class Sampler>
+  void prepare(const Scene& scene, const B& backend, const Sampler& sampler, const RenderSettings& settings,
+               const Camera& camera, std::uint32_t index, const ToneMapping& tone_mapping) {
+    VplSettings vpl_settings;
+    vpl_settings.sets = settings.interleave * settings.interleave;
+    vpl_settings.vpls_per_set = settings.vpls_per_pixel;
+    vpl_settings.frame = index;
+    vpl_settings.seed = settings.seed;
+    vpl_settings.max_bounces = settings.max_bounces;
+    {
+      const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
+      vpls = sampler.generate(scene, backend, vpl_settings);
+    }
+    geometry.update(scene);
+    projection.emplace(camera, settings.width, settings.height);
+    context = FrameContext{};
+    context.scene = &scene;
+    context.geometry = &geometry;
+    context.projection = &*projection;
+    context.vpls = &vpls;
+    context.settings = settings;
+    const Bounds bounds = scene.bounds();
+    const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
+    context.clamp_distance = resolve_clamp(settings, diagonal);
+    // Ray offsets scale with the scene: 1e-5 of its diagonal plus of its distance from the origin
+    // stays above float rounding of positions (about 6e-8 relative) yet far below any feature size.
+    const float reach = bounds.empty() ? 1.0f : std::max(glm::length(bounds.lower), glm::length(bounds.upper));
+    context.ray_epsilon = 1e-5f * (diagonal + reach);
+    context.tone_mapping = tone_mapping;
+  }
+  /// VPLs in all sets.
+  int vpl_count() const noexcept {
+    int n = 0;
+    for (const auto& set : vpls.sets) n += int(set.size());
+    return n;
+  }
 };
 
 /// Rays a tile traced, by kind.

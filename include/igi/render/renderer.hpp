@@ -27,7 +27,7 @@ namespace igi {
 /// Timings and counts of one frame.
 struct FrameStatistics {
   double milliseconds = 0.0;      ///< Whole frame, VPL generation included.
-  double vpl_milliseconds = 0.0;  ///< VPL generation alone.
+  double vpl_milliseconds = 0.0;  ///< Frame set-up: VPL generation, instance matrices, projection.
   RayCounts rays;                 ///< Rays traced.
   int tiles = 0;                  ///< Tiles rendered.
   int vpls = 0;                   ///< VPLs in all sets.
@@ -47,6 +47,24 @@ struct Frame {
   Rgb8Image rgb8;                   ///< Tone-mapped sRGB.
   FrameStatistics statistics;       ///< What it cost.
 };
+
+/// Writes one 8-bit pixel.
+inline void store_pixel(Rgb8Image& image, int x, int y, const glm::u8vec3& rgb) noexcept {
+  std::uint8_t* p = image.pixel(x, y);
+  p[0] = rgb.r;
+  p[1] = rgb.g;
+  p[2] = rgb.b;
+}
+
+/// Copies a finished tile's pixels into its place in the frame.
+inline void place_tile(const TileResult& tile, Frame& frame) {
+  std::size_t from = 0;
+  for (int y = tile.rect.y0; y < tile.rect.y1; ++y)
+    for (int x = tile.rect.x0; x < tile.rect.x1; ++x, ++from) {
+      frame.hdr(x, y) = tile.hdr[from];
+      store_pixel(frame.rgb8, x, y, tile.rgb8[from]);
+    }
+}
 
 /// Renders frames of a scene with the IGI pipeline. The scene and policies are borrowed and must
 /// outlive the renderer; the backend is built and owned here. Change the scene only through the
@@ -85,34 +103,10 @@ class Renderer {
     frame.hdr = Image(frame.width, frame.height);
     frame.rgb8 = Rgb8Image(frame.width, frame.height);
 
-    VplSettings vpl_settings;
-    vpl_settings.sets = settings_.interleave * settings_.interleave;
-    vpl_settings.vpls_per_set = settings_.vpls_per_pixel;
-    vpl_settings.frame = index;
-    vpl_settings.seed = settings_.seed;
-    vpl_settings.max_bounces = settings_.max_bounces;
-    const VplSets vpls = [&] {
-      const FlushDenormals flush;
-      return sampler_->generate(*scene_, *backend_, vpl_settings);
-    }();
+    FrameState state;
+    state.prepare(*scene_, *backend_, *sampler_, settings_, camera, index, tone_mapping_ ? *tone_mapping_ : ToneMapping{});
+    const FrameContext& context = state.context;
     const auto vpls_done = clock::now();
-
-    FrameContext context;
-    context.scene = scene_;
-    const SceneGeometry geometry(*scene_);
-    context.geometry = &geometry;
-    const PinholeProjection projection(camera, settings_.width, settings_.height);
-    context.projection = &projection;
-    context.vpls = &vpls;
-    context.settings = settings_;
-    const Bounds bounds = scene_->bounds();
-    const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
-    context.clamp_distance = resolve_clamp(settings_, diagonal);
-    // Ray offsets scale with the scene: 1e-5 of its diagonal plus of its distance from the origin
-    // stays above float rounding of positions (about 6e-8 relative) yet far below any feature size.
-    const float reach = bounds.empty() ? 1.0f : std::max(glm::length(bounds.lower), glm::length(bounds.upper));
-    context.ray_epsilon = 1e-5f * (diagonal + reach);
-    context.tone_mapping = tone_mapping_ ? *tone_mapping_ : ToneMapping{};
 
     const std::vector<PixelRect> tiles = make_tiles(settings_.width, settings_.height, settings_.tile_size);
     std::mutex merge_mutex;
@@ -127,7 +121,7 @@ class Renderer {
             for (std::size_t t = range.begin(); t != range.end(); ++t) {
               TileResult& result = work.result;
               pipeline_.render_tile(context, tiles[t], work.pipeline, result);
-              place(result, frame);  // tiles are disjoint: no lock needed
+              place_tile(result, frame);  // tiles are disjoint: no lock needed
               std::lock_guard lock(merge_mutex);
               stats.rays.merge(result.rays);
               stats.luminance.merge(result.luminance);
@@ -138,12 +132,11 @@ class Renderer {
     const ToneMapping next = ToneMapping::from(stats.luminance);
     if (!tone_mapping_) {
       for (int y = 0; y < frame.height; ++y)
-        for (int x = 0; x < frame.width; ++x) store(frame.rgb8, x, y, quantize_srgb(next.apply(frame.hdr(x, y))));
+        for (int x = 0; x < frame.width; ++x) store_pixel(frame.rgb8, x, y, quantize_srgb(next.apply(frame.hdr(x, y))));
     }
     tone_mapping_ = next;
     stats.tiles = int(tiles.size());
-    stats.vpls = 0;
-    for (const auto& set : vpls.sets) stats.vpls += int(set.size());
+    stats.vpls = state.vpl_count();
     const auto end = clock::now();
     stats.milliseconds = std::chrono::duration<double, std::milli>(end - start).count();
     stats.vpl_milliseconds = std::chrono::duration<double, std::milli>(vpls_done - start).count();
@@ -184,23 +177,6 @@ class Renderer {
     if (scene.triangle_count() == 0)
       throw std::invalid_argument("scene '" + scene.name + "' has no geometry: no triangles to render");
   }
-  /// Copies a tile's pixels into the frame.
-  static void place(const TileResult& tile, Frame& frame) {
-    std::size_t from = 0;
-    for (int y = tile.rect.y0; y < tile.rect.y1; ++y)
-      for (int x = tile.rect.x0; x < tile.rect.x1; ++x, ++from) {
-        frame.hdr(x, y) = tile.hdr[from];
-        store(frame.rgb8, x, y, tile.rgb8[from]);
-      }
-  }
-  /// Writes one 8-bit pixel.
-  static void store(Rgb8Image& image, int x, int y, const glm::u8vec3& rgb) noexcept {
-    std::uint8_t* p = image.pixel(x, y);
-    p[0] = rgb.r;
-    p[1] = rgb.g;
-    p[2] = rgb.b;
-  }
-
   /// What one thread keeps between tiles.
   struct ThreadWork {
     typename PipelineType::Workspace pipeline;  ///< Streams and G-buffer.
