@@ -108,6 +108,44 @@ inline std::vector<WorldTriangle> world_triangles(const Scene& scene) {
   return triangles;
 }
 
+/// The geometry a flattening backend keeps between frames (mesh positions and triangles, and the
+/// instances), with the checked updates ReferenceBackend and SaarcorBackend both take.
+class FlattenedGeometry {
+ public:
+  /// Copies the geometry of `scene`; throws std::invalid_argument naming `backend` if it is malformed.
+  FlattenedGeometry(const Scene& scene, const char* backend) : backend_(backend) {
+    validate_for_tracing(scene, backend);
+    geometry_.meshes.reserve(scene.meshes.size());
+    for (const Mesh& mesh : scene.meshes) {
+      Mesh copy;
+      copy.name = mesh.name;
+      copy.positions = mesh.positions;
+      copy.triangles = mesh.triangles;
+      geometry_.meshes.push_back(std::move(copy));
+    }
+    geometry_.instances = scene.instances;
+  }
+  /// Moves instance `index`.
+  void set_instance_transform(int index, const glm::mat4& transform) {
+    check_index(index, geometry_.instances.size(), backend_, "instance");
+    check_transform(transform, backend_);
+    geometry_.instances[std::size_t(index)].transform = transform;
+  }
+  /// Replaces the vertex positions of mesh `index` (same count).
+  void set_mesh_positions(int index, std::span<const glm::vec3> positions) {
+    check_index(index, geometry_.meshes.size(), backend_, "mesh");
+    Mesh& mesh = geometry_.meshes[std::size_t(index)];
+    check_positions(mesh, positions, backend_);
+    mesh.positions.assign(positions.begin(), positions.end());
+  }
+  /// The current triangles in world space.
+  std::vector<WorldTriangle> triangles() const { return world_triangles(geometry_); }
+
+ private:
+  Scene geometry_;       ///< Meshes (positions, triangles) and instances only.
+  const char* backend_;  ///< Name in messages.
+};
+
 /// One ray, read from lane `lane` of a packet.
 struct Ray {
   glm::vec3 origin;     ///< Origin.

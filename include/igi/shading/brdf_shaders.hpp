@@ -278,17 +278,33 @@ class PhongBrdf {
   }
 };
 
-/// A perfect mirror of reflectance `parameters.mirror`: no VPL light, one reflection ray.
-class MirrorBrdf {
+/// What the delta BRDFs (mirror, glass) share: no light from VPLs, nothing to evaluate, and the
+/// settings their secondary rays are spawned with.
+class DeltaBrdf {
  public:
-  /// Mirror with `settings`.
-  explicit MirrorBrdf(const BrdfSettings& settings = {}) : settings_(settings) {}
-  /// Policy name.
-  static constexpr const char* name() noexcept { return "mirror"; }
+  /// A delta lobe with `settings`.
+  explicit DeltaBrdf(const BrdfSettings& settings) : settings_(settings) {}
   /// A delta BRDF gathers nothing from point lights.
   template <int W>
   void add_vpl(const SurfaceHit<W>&, const BrdfParameters<W>&, const VplGeometry<W>&, const glm::vec3&,
                VplAccumulator<W>&, const vmask<W>&) const noexcept {}
+  /// Zero: a delta lobe has no density to evaluate.
+  template <int W>
+  vec3<W> evaluate(const SurfaceHit<W>&, const BrdfParameters<W>&, const vec3<W>&, const vmask<W>&) const noexcept {
+    return {};
+  }
+
+ protected:
+  BrdfSettings settings_;  ///< Ray offsets of the spawned rays.
+};
+
+/// A perfect mirror of reflectance `parameters.mirror`: no VPL light, one reflection ray.
+class MirrorBrdf : public DeltaBrdf {
+ public:
+  /// Mirror with `settings`.
+  explicit MirrorBrdf(const BrdfSettings& settings = {}) : DeltaBrdf(settings) {}
+  /// Policy name.
+  static constexpr const char* name() noexcept { return "mirror"; }
   /// Reflection rays of weight `mirror` on the lanes of `mask` with a non-zero mirror colour.
   template <int W>
   vmask<W> spawn(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, SecondaryRays<W>& reflection,
@@ -296,27 +312,15 @@ class MirrorBrdf {
     return brdf_detail::spawn_specular(hit, parameters, parameters.mirror, vfloat<W>(0.0f), settings_.ray_epsilon, reflection,
                                   refraction, mask);
   }
-  /// Zero: a delta lobe has no density to evaluate.
-  template <int W>
-  vec3<W> evaluate(const SurfaceHit<W>&, const BrdfParameters<W>&, const vec3<W>&, const vmask<W>&) const noexcept {
-    return {};
-  }
-
- private:
-  BrdfSettings settings_;
 };
 
 /// A clear dielectric interface of index `parameters.ior`: Fresnel reflection and refraction.
-class GlassBrdf {
+class GlassBrdf : public DeltaBrdf {
  public:
   /// Glass with `settings`.
-  explicit GlassBrdf(const BrdfSettings& settings = {}) : settings_(settings) {}
+  explicit GlassBrdf(const BrdfSettings& settings = {}) : DeltaBrdf(settings) {}
   /// Policy name.
   static constexpr const char* name() noexcept { return "glass"; }
-  /// A delta BRDF gathers nothing from point lights.
-  template <int W>
-  void add_vpl(const SurfaceHit<W>&, const BrdfParameters<W>&, const VplGeometry<W>&, const glm::vec3&,
-               VplAccumulator<W>&, const vmask<W>&) const noexcept {}
   /// Reflection (weight F) and refraction (weight 1 - F) rays; reflection only under total internal reflection.
   template <int W>
   vmask<W> spawn(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, SecondaryRays<W>& reflection,
@@ -324,14 +328,6 @@ class GlassBrdf {
     return brdf_detail::spawn_specular(hit, parameters, vec3<W>(), vfloat<W>(1.0f), settings_.ray_epsilon, reflection,
                                   refraction, mask);
   }
-  /// Zero: a delta lobe has no density to evaluate.
-  template <int W>
-  vec3<W> evaluate(const SurfaceHit<W>&, const BrdfParameters<W>&, const vec3<W>&, const vmask<W>&) const noexcept {
-    return {};
-  }
-
- private:
-  BrdfSettings settings_;
 };
 
 /// Everything at once, lane by lane: diffuse and glossy VPL light, mirror reflection and glass

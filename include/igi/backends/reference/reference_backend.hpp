@@ -33,17 +33,7 @@ class ReferenceBackend {
   static constexpr const char* name() noexcept { return "reference"; }
 
   /// Builds the hierarchy over `scene`; throws std::invalid_argument if the scene is malformed.
-  explicit ReferenceBackend(const Scene& scene) {
-    validate_for_tracing(scene, "igi::ReferenceBackend");
-    geometry_.meshes.reserve(scene.meshes.size());
-    for (const Mesh& mesh : scene.meshes) {
-      Mesh copy;
-      copy.name = mesh.name;
-      copy.positions = mesh.positions;
-      copy.triangles = mesh.triangles;
-      geometry_.meshes.push_back(std::move(copy));
-    }
-    geometry_.instances = scene.instances;
+  explicit ReferenceBackend(const Scene& scene) : geometry_(scene, "igi::ReferenceBackend") {
     build();
   }
 
@@ -100,19 +90,10 @@ class ReferenceBackend {
   }
 
   /// Moves instance `index`; takes effect at commit().
-  void set_instance_transform(int index, const glm::mat4& transform) {
-    check_index(index, geometry_.instances.size(), "igi::ReferenceBackend", "instance");
-    check_transform(transform, "igi::ReferenceBackend");
-    geometry_.instances[std::size_t(index)].transform = transform;
-  }
+  void set_instance_transform(int index, const glm::mat4& transform) { geometry_.set_instance_transform(index, transform); }
 
   /// Replaces the vertex positions of mesh `index` (same count); takes effect at commit().
-  void set_mesh_positions(int index, std::span<const glm::vec3> positions) {
-    check_index(index, geometry_.meshes.size(), "igi::ReferenceBackend", "mesh");
-    Mesh& mesh = geometry_.meshes[std::size_t(index)];
-    check_positions(mesh, positions, "igi::ReferenceBackend");
-    mesh.positions.assign(positions.begin(), positions.end());
-  }
+  void set_mesh_positions(int index, std::span<const glm::vec3> positions) { geometry_.set_mesh_positions(index, positions); }
 
   /// Rebuilds the hierarchy from the current transforms and positions.
   void commit() { build(); }
@@ -142,7 +123,7 @@ class ReferenceBackend {
   static constexpr int stack_size = 64;
 
   void build() {
-    triangles_ = world_triangles(geometry_);
+    triangles_ = geometry_.triangles();
     nodes_.clear();
     nodes_.reserve(2 * triangles_.size() / leaf_size + 1);
     nodes_.push_back({});
@@ -234,7 +215,7 @@ class ReferenceBackend {
     return blocked;
   }
 
-  Scene geometry_;                       ///< Meshes (positions, triangles) and instances only.
+  FlattenedGeometry geometry_;  ///< What is traced, as of the last update.
   std::vector<WorldTriangle> triangles_;  ///< World triangles in leaf order.
   std::vector<Node> nodes_;              ///< Node 0 is the root.
 };

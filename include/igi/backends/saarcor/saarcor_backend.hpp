@@ -56,17 +56,7 @@ class SaarcorBackend {
 
   /// Flattens the instances of `scene` and builds the kd-tree; throws std::invalid_argument if
   /// the scene is malformed.
-  explicit SaarcorBackend(const Scene& scene) {
-    validate_for_tracing(scene, "igi::SaarcorBackend");
-    geometry_.meshes.reserve(scene.meshes.size());
-    for (const Mesh& mesh : scene.meshes) {
-      Mesh copy;
-      copy.name = mesh.name;
-      copy.positions = mesh.positions;
-      copy.triangles = mesh.triangles;
-      geometry_.meshes.push_back(std::move(copy));
-    }
-    geometry_.instances = scene.instances;
+  explicit SaarcorBackend(const Scene& scene) : geometry_(scene, "igi::SaarcorBackend") {
     build();
   }
 
@@ -105,19 +95,10 @@ class SaarcorBackend {
   }
 
   /// Moves instance `index`; the tree is rebuilt at commit().
-  void set_instance_transform(int index, const glm::mat4& transform) {
-    check_index(index, geometry_.instances.size(), "igi::SaarcorBackend", "instance");
-    check_transform(transform, "igi::SaarcorBackend");
-    geometry_.instances[std::size_t(index)].transform = transform;
-  }
+  void set_instance_transform(int index, const glm::mat4& transform) { geometry_.set_instance_transform(index, transform); }
 
   /// Replaces the vertex positions of mesh `index` (same count); the tree is rebuilt at commit().
-  void set_mesh_positions(int index, std::span<const glm::vec3> positions) {
-    check_index(index, geometry_.meshes.size(), "igi::SaarcorBackend", "mesh");
-    Mesh& mesh = geometry_.meshes[std::size_t(index)];
-    check_positions(mesh, positions, "igi::SaarcorBackend");
-    mesh.positions.assign(positions.begin(), positions.end());
-  }
+  void set_mesh_positions(int index, std::span<const glm::vec3> positions) { geometry_.set_mesh_positions(index, positions); }
 
   /// Rebuilds the kd-tree from the current transforms and positions (SaarCOR flattens instances).
   void commit() { build(); }
@@ -214,7 +195,7 @@ class SaarcorBackend {
   }
 
   void build() {
-    triangles_ = world_triangles(geometry_);
+    triangles_ = geometry_.triangles();
     nodes_.clear();
     references_.clear();
     depth_ = 0;
@@ -501,7 +482,7 @@ class SaarcorBackend {
     }
   }
 
-  Scene geometry_;                        ///< Meshes (positions, triangles) and instances only.
+  FlattenedGeometry geometry_;  ///< What is traced, as of the last update.
   std::vector<WorldTriangle> triangles_;  ///< Flattened world triangles.
   std::vector<KdNode> nodes_;             ///< Node 0 is the root.
   std::vector<Reference> references_;     ///< Leaf triangle lists.
