@@ -3,6 +3,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "cross_check_cases.hpp"
 #include "igi/backends/embree/embree_backend.hpp"
 
@@ -143,4 +145,33 @@ TEMPLATE_TEST_CASE("embree: the coherence hint changes speed, not results", "[ba
   CHECK(hits > 100);
 }
 
+/// EmbreeBackend flattening only meshes with one instance (as for a scene above the flattening
+/// limit): the shared sphere mesh of the instanced scene is traced through Embree instances.
+template <int W>
+struct InstancingEmbree : EmbreeBackend<W> {
+  /// Builds over `scene` with a flattening limit of 0 triangles.
+  explicit InstancingEmbree(const igi::Scene& scene) : EmbreeBackend<W>(scene, "", 0) {}
+};
+
+TEMPLATE_TEST_CASE("embree: flattened instances that move twice, then deform, stay in step with the reference",
+                   "[backends]", EmbreeBackend<16>, InstancingEmbree<16>) {
+  // The first move takes an instance out of the flattened scene, the second moves the Embree
+  // instance it became; the vertex change then refits the mesh scene it now uses.
+  igi::Scene scene = igi::testing::instanced_scene();
+  TestType backend(scene);
+  for (const float shift : {0.5f, -1.25f}) {
+    const glm::mat4 moved = glm::translate(scene.instances[2].transform, glm::vec3(shift, 0.0f, 0.0f));
+    scene.instances[2].transform = moved;
+    backend.set_instance_transform(2, moved);
+    backend.commit();
+    igi::testing::cross_check_all_kinds(scene, backend);
+  }
+  const std::vector<glm::vec3> positions = igi::testing::deformed_sphere_positions(scene);
+  scene.meshes[1].positions = positions;
+  backend.set_mesh_positions(1, positions);
+  backend.commit();
+  igi::testing::cross_check_all_kinds(scene, backend);
+}
+
 IGI_CROSS_CHECK_CASES("embree:", EmbreeBackend<1>, EmbreeBackend<4>, EmbreeBackend<8>, EmbreeBackend<16>)
+IGI_CROSS_CHECK_CASES("embree instancing:", InstancingEmbree<4>, InstancingEmbree<16>)

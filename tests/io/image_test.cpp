@@ -144,6 +144,24 @@ TEST_CASE("image: sRGB transfer functions and 8-bit quantization", "[io][image]"
   }
 }
 
+TEST_CASE("image: the table quantizer equals the transfer function on every sampled float", "[io][image]") {
+  // Every 61st bit pattern from 0 to just above 1 (about 17 million floats, so each code's boundary
+  // region is sampled many times), then both sides of every threshold.
+  std::int64_t mismatches = 0;
+  for (std::uint32_t bits = 0; bits <= std::bit_cast<std::uint32_t>(1.001f); bits += 61) {
+    const float linear = std::bit_cast<float>(bits);
+    mismatches += quantize(linear) != quantize_direct(linear);
+  }
+  CHECK(mismatches == 0);
+  for (const float threshold : image_detail::quantize_thresholds()) {
+    const float below = std::nextafter(threshold, 0.0f);
+    mismatches += quantize(threshold) != quantize_direct(threshold);
+    mismatches += quantize(below) != quantize_direct(below);
+    mismatches += quantize(below) == quantize(threshold);  // each threshold starts a new code
+  }
+  CHECK(mismatches == 0);
+}
+
 TEST_CASE("image: construction, access and quantizing a whole image", "[io][image]") {
   Image image(3, 2, glm::vec3(0.25f));
   CHECK(image.pixels.size() == 6);

@@ -166,14 +166,6 @@ TEMPLATE_TEST_CASE_SIG("lanes: mask logic, counts and partial-packet masks", "[s
     CHECK(popcount(first) == count);
     for (int i = 0; i < W; ++i) CHECK(first[i] == (i < count));
   }
-
-  // A mask built from int-typed chunk masks (what int comparisons produce) keeps its lanes.
-  using int_chunk = stdx::fixed_size_simd_mask<std::int32_t, vmask<W>::chunk_size>;
-  std::array<int_chunk, vmask<W>::chunks> parts;
-  parts.fill(int_chunk(false));
-  for (int c = 0; c < vmask<W>::chunks; ++c)
-    for (int k = 0; k < vmask<W>::chunk_size; ++k) parts[c][k] = p[static_cast<std::size_t>(c * vmask<W>::chunk_size + k)];
-  check_mask(vmask<W>(parts), p);
 }
 
 TEMPLATE_TEST_CASE_SIG("lanes: select, keep and masked assignment", "[simd][lanes]", ((int W), W), 1, 4, 8, 16, 64) {

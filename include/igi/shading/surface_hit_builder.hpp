@@ -69,6 +69,36 @@ inline void check_hit_ids(const Scene& scene, std::size_t cached_instances, std:
                             scene.meshes[mesh].name + "'");
 }
 
+/// Matrices of one instance, by value.
+struct InstanceMatrices {
+  glm::mat4 object_to_world;  ///< Instance transform.
+  glm::mat3 normal_to_world;  ///< Inverse transpose of its linear part.
+};
+
+/// Per-lane instance matrices as packets of columns, for transforming whole packets at once.
+template <int W>
+struct PacketMatrices {
+  vec3<W> column[4];         ///< Columns of the object-to-world transform (the 4th is the translation).
+  vec3<W> normal_column[3];  ///< Columns of the normal matrix.
+
+  /// Every lane gets `m`.
+  void broadcast(const InstanceMatrices& m) noexcept {
+    for (int c = 0; c < 4; ++c) column[c] = vec3<W>(glm::vec3(m.object_to_world[c]));
+    for (int c = 0; c < 3; ++c) normal_column[c] = vec3<W>(m.normal_to_world[c]);
+  }
+  /// Lane `i` gets `m`.
+  void set(int i, const InstanceMatrices& m) noexcept {
+    for (int c = 0; c < 4; ++c) column[c].set(i, glm::vec3(m.object_to_world[c]));
+    for (int c = 0; c < 3; ++c) normal_column[c].set(i, m.normal_to_world[c]);
+  }
+  /// Object-space points to world space.
+  vec3<W> point(const vec3<W>& p) const noexcept { return column[0] * p.x + column[1] * p.y + column[2] * p.z + column[3]; }
+  /// Object-space normals to world space (not normalised).
+  vec3<W> normal(const vec3<W>& n) const noexcept {
+    return normal_column[0] * n.x + normal_column[1] * n.y + normal_column[2] * n.z;
+  }
+};
+
 /// The body of both make_surface_hit overloads; `matrices(instance)` yields the instance's
 /// object-to-world and normal matrices, `instance_count` how many instances it knows.
 template <int W, class Matrices>
@@ -78,29 +108,34 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
   const vmask<W> active = mask & hits.valid();
   if (none(active)) return hit;
 
-  // Gather the world-space triangle, its vertex normals and uvs lane by lane (scalar: the data
-  // are scattered over meshes), then do the vector algebra on packets.
+  // Gather the object-space triangle, its vertex normals and uvs lane by lane (scalar: the data
+  // are scattered over meshes), then transform and do the vector algebra on packets. A packet
+  // nearly always hits one instance, whose matrices are then broadcast instead of gathered.
   vec3<W> p0, p1, p2, interpolated_normal;
   vfloat<W> tex_u, tex_v;
+  const int first_lane = [&] {
+    for (int i = 0; i < W; ++i)
+      if (active[i]) return i;
+    return 0;
+  }();
+  const std::uint32_t first_instance = hits.instID[first_lane];
+  bool one_instance = true;
   for (int i = 0; i < W; ++i) {
     if (!active[i]) continue;
     const std::uint32_t mesh_id = hits.geomID[i], instance_id = hits.instID[i], triangle_id = hits.primID[i];
     check_hit_ids(scene, instance_count, mesh_id, instance_id, triangle_id);
+    one_instance = one_instance && instance_id == first_instance;
     const Mesh& mesh = scene.meshes[mesh_id];
     const glm::uvec3 triangle = mesh.triangles[triangle_id];
     if (triangle.x >= mesh.positions.size() || triangle.y >= mesh.positions.size() || triangle.z >= mesh.positions.size())
       throw std::out_of_range("make_surface_hit: triangle " + std::to_string(triangle_id) + " of mesh '" + mesh.name +
                               "' indexes a vertex beyond its " + std::to_string(mesh.positions.size()) + " positions");
-    const auto [to_world, normal_to_world] = matrices(instance_id);
     const float b1 = hits.u[i], b2 = hits.v[i], b0 = 1.0f - b1 - b2;
-    p0.set(i, glm::vec3(to_world * glm::vec4(mesh.positions[triangle.x], 1.0f)));
-    p1.set(i, glm::vec3(to_world * glm::vec4(mesh.positions[triangle.y], 1.0f)));
-    p2.set(i, glm::vec3(to_world * glm::vec4(mesh.positions[triangle.z], 1.0f)));
-    if (mesh.normals.size() == mesh.positions.size()) {
-      const glm::vec3 n =
-          b0 * mesh.normals[triangle.x] + b1 * mesh.normals[triangle.y] + b2 * mesh.normals[triangle.z];
-      interpolated_normal.set(i, normal_to_world * n);
-    }
+    p0.set(i, mesh.positions[triangle.x]);
+    p1.set(i, mesh.positions[triangle.y]);
+    p2.set(i, mesh.positions[triangle.z]);
+    if (mesh.normals.size() == mesh.positions.size())
+      interpolated_normal.set(i, b0 * mesh.normals[triangle.x] + b1 * mesh.normals[triangle.y] + b2 * mesh.normals[triangle.z]);
     if (mesh.uvs.size() == mesh.positions.size()) {
       const glm::vec2 uv = b0 * mesh.uvs[triangle.x] + b1 * mesh.uvs[triangle.y] + b2 * mesh.uvs[triangle.z];
       tex_u.set(i, uv.x);
@@ -111,6 +146,17 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
     hit.instance.set(i, std::int32_t(instance_id));
     hit.triangle.set(i, std::int32_t(triangle_id));
   }
+  PacketMatrices<W> to_world;
+  if (one_instance) {
+    to_world.broadcast(matrices(first_instance));
+  } else {
+    for (int i = 0; i < W; ++i)
+      if (active[i]) to_world.set(i, matrices(hits.instID[i]));
+  }
+  p0 = to_world.point(p0);
+  p1 = to_world.point(p1);
+  p2 = to_world.point(p2);
+  interpolated_normal = to_world.normal(interpolated_normal);
 
   const vfloat<W> b1 = vfloat<W>::load(hits.u), b2 = vfloat<W>::load(hits.v);
   const vfloat<W> b0 = vfloat<W>(1.0f) - b1 - b2;
@@ -143,12 +189,6 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
   hit.v = keep(tex_v, active);
   return hit;
 }
-
-/// Matrices of one instance, by value.
-struct InstanceMatrices {
-  glm::mat4 object_to_world;  ///< Instance transform.
-  glm::mat3 normal_to_world;  ///< Inverse transpose of its linear part.
-};
 
 }  // namespace hit_detail
 

@@ -1,18 +1,21 @@
 #pragma once
 /// \file
 /// Width-generic SIMD packets: `vfloat<W>`, `vint<W>`, `vuint<W>` and `vmask<W>` built on
-/// libstdc++'s `std::experimental::simd`. A packet of W lanes is an array of fixed-size chunks of
-/// at most 16 lanes (one AVX-512 register of floats), so W = 64 (SaarCOR's 8x8 packets) works
+/// libstdc++'s `std::experimental::simd`. A packet of W lanes is an array of chunks, each one
+/// native register of the target (`simd_abi::deduce_t`): 4 floats with SSE, 8 with AVX2, 16 with
+/// AVX-512. So W = 16 is two ymm registers under AVX2 and W = 64 (SaarCOR's 8x8 packets) works
 /// although libstdc++ caps fixed-size simd at 32 lanes.
 ///
-/// Every operation is `[[gnu::always_inline]]`: each is a handful of instructions on values of
-/// up to 256 bytes, and GCC's size heuristics otherwise leave some (dot, select) as calls with
-/// memory round trips in large shading functions, which measured 20% of a frame.
+/// Chunks are native ABIs, not `fixed_size_simd`, because libstdc++ 12 marks every native-ABI
+/// operation always-inline but leaves the fixed-size ones as plain `inline`: GCC then kept
+/// `_SimdImplFixedSize::_S_multiplies` and friends as out-of-line calls with memory round trips,
+/// 20% of a Cornell frame in perf. For the same reason every operation here is
+/// `[[gnu::always_inline]]`, and so is every lambda handed to `lanewise` (GNU attribute syntax:
+/// `[[gnu::always_inline]]` in that place would apply to the lambda's type, not its call operator).
 
 #include <array>
 #include <cstdint>
 #include <experimental/simd>
-#include <functional>
 #include <limits>
 #include <type_traits>
 
@@ -21,14 +24,28 @@ namespace igi {
 namespace stdx = std::experimental;
 
 namespace detail {
-/// 16 floats fill one zmm register; larger packets are arrays of such chunks.
-inline constexpr int max_chunk_lanes = 16;
+/// Lanes of one native register of floats on the target: 4 (SSE), 8 (AVX2) or 16 (AVX-512).
+inline constexpr int native_lanes = int(stdx::native_simd<float>::size());
+static_assert(int(stdx::native_simd<std::int32_t>::size()) == native_lanes,
+              "int and float registers must hold the same number of lanes (true from SSE2 on, except plain AVX)");
 /// Lanes in one chunk of a W-lane packet.
 template <int W>
-inline constexpr int chunk_lanes = W < max_chunk_lanes ? W : max_chunk_lanes;
+inline constexpr int chunk_lanes = W < native_lanes ? W : native_lanes;
 /// Chunks in a W-lane packet.
 template <int W>
 inline constexpr int chunk_count = W / chunk_lanes<W>;
+/// One chunk of a W-lane packet of T: a native register, or part of one for small W.
+template <class T, int W>
+using chunk = stdx::simd<T, stdx::simd_abi::deduce_t<T, chunk_lanes<W>>>;
+/// A float-typed mask chunk as the mask type of T's chunks (int and float masks are distinct types).
+template <class T, class Mask>
+[[gnu::always_inline]] inline auto mask_as(const Mask& mask) noexcept {
+  using target = typename stdx::simd<T, stdx::simd_abi::deduce_t<T, int(Mask::size())>>::mask_type;
+  if constexpr (std::is_same_v<target, Mask>)
+    return mask;
+  else
+    return stdx::__proposed::static_simd_cast<target>(mask);
+}
 }  // namespace detail
 
 /// True for the packet widths igi supports (1, 2, 4, 8, 16, 32 and 64 lanes).
@@ -41,7 +58,7 @@ template <int W>
 class vmask {
  public:
   /// One native mask chunk.
-  using chunk_type = stdx::fixed_size_simd_mask<float, detail::chunk_lanes<W>>;
+  using chunk_type = typename detail::chunk<float, W>::mask_type;
   /// Lanes per chunk.
   static constexpr int chunk_size = detail::chunk_lanes<W>;
   /// Number of chunks.
@@ -50,24 +67,19 @@ class vmask {
   static constexpr int width = W;
 
   /// All lanes off.
-  constexpr vmask() noexcept : chunk_{} {
+  [[gnu::always_inline]] constexpr vmask() noexcept : chunk_{} {
     for (auto& c : chunk_) c = chunk_type(false);
   }
   /// Every lane set to `value`.
-  constexpr vmask(bool value) noexcept {  // NOLINT(google-explicit-constructor): broadcast
+  [[gnu::always_inline]] constexpr vmask(bool value) noexcept {  // NOLINT(google-explicit-constructor): broadcast
     for (auto& c : chunk_) c = chunk_type(value);
   }
-  /// From chunks of any element type (int comparisons yield int masks).
-  template <class U>
-  explicit vmask(const std::array<stdx::fixed_size_simd_mask<U, chunk_size>, chunks>& parts) noexcept {
-    for (int c = 0; c < chunks; ++c) chunk_[c] = parts[c];
-  }
   /// Lanes `0 .. count-1` on, the rest off: the mask of a partial packet.
-  static vmask first(int count) noexcept {
+  [[gnu::always_inline]] static vmask first(int count) noexcept {
     vmask m;
     for (int c = 0; c < chunks; ++c)
-      m.chunk_[c] = stdx::fixed_size_simd<float, chunk_size>([](auto i) { return float(i); }) <
-                    stdx::fixed_size_simd<float, chunk_size>(float(count - c * chunk_size));
+      m.chunk_[c] = detail::chunk<float, W>([](auto i) { return float(i); }) <
+                    detail::chunk<float, W>(float(count - c * chunk_size));
     return m;
   }
   /// Lane `i`.
@@ -149,7 +161,7 @@ class lanes {
   /// Element type.
   using value_type = T;
   /// One native chunk.
-  using chunk_type = stdx::fixed_size_simd<T, detail::chunk_lanes<W>>;
+  using chunk_type = detail::chunk<T, W>;
   /// Lanes per chunk.
   static constexpr int chunk_size = detail::chunk_lanes<W>;
   /// Number of chunks.
@@ -158,17 +170,17 @@ class lanes {
   static constexpr int width = W;
 
   /// All lanes zero.
-  constexpr lanes() noexcept {
+  [[gnu::always_inline]] constexpr lanes() noexcept {
     for (auto& c : chunk_) c = chunk_type(T(0));
   }
   /// Every lane `value`.
-  constexpr lanes(T value) noexcept {  // NOLINT(google-explicit-constructor): broadcast
+  [[gnu::always_inline]] constexpr lanes(T value) noexcept {  // NOLINT(google-explicit-constructor): broadcast
     for (auto& c : chunk_) c = chunk_type(value);
   }
   /// Lane `i` is `generator(i)`.
   template <class F>
     requires std::is_invocable_r_v<T, F, int>
-  explicit lanes(F&& generator) noexcept {
+  [[gnu::always_inline]] explicit lanes(F&& generator) noexcept {
     for (int c = 0; c < chunks; ++c)
       chunk_[c] = chunk_type([&](auto i) { return static_cast<T>(generator(c * chunk_size + int(i))); });
   }
@@ -193,7 +205,7 @@ class lanes {
 
   /// Sets the lanes of `mask` to `value`, leaves the others.
   [[gnu::always_inline]] void assign(const lanes& value, const vmask<W>& mask) noexcept {
-    for (int c = 0; c < chunks; ++c) stdx::where(mask.chunk(c), chunk_[c]) = value.chunk_[c];
+    for (int c = 0; c < chunks; ++c) stdx::where(detail::mask_as<T>(mask.chunk(c)), chunk_[c]) = value.chunk_[c];
   }
 
   /// Applies `op` chunk by chunk: the one loop all lane-wise operations go through.
@@ -214,45 +226,67 @@ class lanes {
   template <class F>
   [[gnu::always_inline]] friend vmask<W> compare(const lanes& a, const lanes& b, F&& op) noexcept {
     vmask<W> m;
-    for (int c = 0; c < chunks; ++c) m.chunk(c) = op(a.chunk_[c], b.chunk_[c]);
+    for (int c = 0; c < chunks; ++c) m.chunk(c) = detail::mask_as<float>(op(a.chunk_[c], b.chunk_[c]));
     return m;
   }
 
-  [[gnu::always_inline]] friend lanes operator+(const lanes& a, const lanes& b) noexcept { return lanewise(a, b, std::plus<>{}); }
-  [[gnu::always_inline]] friend lanes operator-(const lanes& a, const lanes& b) noexcept { return lanewise(a, b, std::minus<>{}); }
-  [[gnu::always_inline]] friend lanes operator*(const lanes& a, const lanes& b) noexcept { return lanewise(a, b, std::multiplies<>{}); }
-  [[gnu::always_inline]] friend lanes operator/(const lanes& a, const lanes& b) noexcept { return lanewise(a, b, std::divides<>{}); }
-  [[gnu::always_inline]] friend lanes operator-(const lanes& a) noexcept { return lanewise(a, std::negate<>{}); }
+  [[gnu::always_inline]] friend lanes operator+(const lanes& a, const lanes& b) noexcept {
+    return lanewise(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x + y; });
+  }
+  [[gnu::always_inline]] friend lanes operator-(const lanes& a, const lanes& b) noexcept {
+    return lanewise(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x - y; });
+  }
+  [[gnu::always_inline]] friend lanes operator*(const lanes& a, const lanes& b) noexcept {
+    return lanewise(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x * y; });
+  }
+  [[gnu::always_inline]] friend lanes operator/(const lanes& a, const lanes& b) noexcept {
+    return lanewise(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x / y; });
+  }
+  [[gnu::always_inline]] friend lanes operator-(const lanes& a) noexcept {
+    return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return -x; });
+  }
   [[gnu::always_inline]] lanes& operator+=(const lanes& b) noexcept { return *this = *this + b; }
   [[gnu::always_inline]] lanes& operator-=(const lanes& b) noexcept { return *this = *this - b; }
   [[gnu::always_inline]] lanes& operator*=(const lanes& b) noexcept { return *this = *this * b; }
   [[gnu::always_inline]] lanes& operator/=(const lanes& b) noexcept { return *this = *this / b; }
 
   [[gnu::always_inline]] friend lanes operator&(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
-    return lanewise(a, b, std::bit_and<>{});
+    return lanewise(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x & y; });
   }
   [[gnu::always_inline]] friend lanes operator|(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
-    return lanewise(a, b, std::bit_or<>{});
+    return lanewise(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x | y; });
   }
   [[gnu::always_inline]] friend lanes operator^(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
-    return lanewise(a, b, std::bit_xor<>{});
+    return lanewise(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x ^ y; });
   }
   [[gnu::always_inline]] friend lanes operator<<(const lanes& a, int bits) noexcept requires std::is_integral_v<T> {
-    return lanewise(a, [bits](const chunk_type& x) { return x << bits; });
+    return lanewise(a, [bits](const chunk_type& x) __attribute__((always_inline)) { return x << bits; });
   }
   [[gnu::always_inline]] friend lanes operator>>(const lanes& a, int bits) noexcept requires std::is_integral_v<T> {
-    return lanewise(a, [bits](const chunk_type& x) { return x >> bits; });
+    return lanewise(a, [bits](const chunk_type& x) __attribute__((always_inline)) { return x >> bits; });
   }
   [[gnu::always_inline]] friend lanes operator%(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
-    return lanewise(a, b, std::modulus<>{});
+    return lanewise(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x % y; });
   }
 
-  [[gnu::always_inline]] friend vmask<W> operator<(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::less<>{}); }
-  [[gnu::always_inline]] friend vmask<W> operator<=(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::less_equal<>{}); }
-  [[gnu::always_inline]] friend vmask<W> operator>(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::greater<>{}); }
-  [[gnu::always_inline]] friend vmask<W> operator>=(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::greater_equal<>{}); }
-  [[gnu::always_inline]] friend vmask<W> operator==(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::equal_to<>{}); }
-  [[gnu::always_inline]] friend vmask<W> operator!=(const lanes& a, const lanes& b) noexcept { return compare(a, b, std::not_equal_to<>{}); }
+  [[gnu::always_inline]] friend vmask<W> operator<(const lanes& a, const lanes& b) noexcept {
+    return compare(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x < y; });
+  }
+  [[gnu::always_inline]] friend vmask<W> operator<=(const lanes& a, const lanes& b) noexcept {
+    return compare(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x <= y; });
+  }
+  [[gnu::always_inline]] friend vmask<W> operator>(const lanes& a, const lanes& b) noexcept {
+    return compare(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x > y; });
+  }
+  [[gnu::always_inline]] friend vmask<W> operator>=(const lanes& a, const lanes& b) noexcept {
+    return compare(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x >= y; });
+  }
+  [[gnu::always_inline]] friend vmask<W> operator==(const lanes& a, const lanes& b) noexcept {
+    return compare(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x == y; });
+  }
+  [[gnu::always_inline]] friend vmask<W> operator!=(const lanes& a, const lanes& b) noexcept {
+    return compare(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x != y; });
+  }
 
  private:
   std::array<chunk_type, chunks> chunk_;
@@ -283,12 +317,12 @@ template <class T, int W>
 /// Lane-wise minimum.
 template <class T, int W>
 [[gnu::always_inline]] inline lanes<T, W> min(const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
-  return lanewise(a, b, [](const auto& x, const auto& y) { return stdx::min(x, y); });
+  return lanewise(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return stdx::min(x, y); });
 }
 /// Lane-wise maximum.
 template <class T, int W>
 [[gnu::always_inline]] inline lanes<T, W> max(const lanes<T, W>& a, const lanes<T, W>& b) noexcept {
-  return lanewise(a, b, [](const auto& x, const auto& y) { return stdx::max(x, y); });
+  return lanewise(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return stdx::max(x, y); });
 }
 /// `value` limited to `[low, high]`.
 template <class T, int W>
@@ -298,42 +332,42 @@ template <class T, int W>
 /// Lane-wise absolute value.
 template <class T, int W>
 [[gnu::always_inline]] inline lanes<T, W> abs(const lanes<T, W>& a) noexcept {
-  return lanewise(a, [](const auto& x) { return stdx::abs(x); });
+  return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return stdx::abs(x); });
 }
 /// Lane-wise square root.
 template <int W>
 [[gnu::always_inline]] inline vfloat<W> sqrt(const vfloat<W>& a) noexcept {
-  return lanewise(a, [](const auto& x) { return stdx::sqrt(x); });
+  return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return stdx::sqrt(x); });
 }
 /// Lane-wise floor.
 template <int W>
 [[gnu::always_inline]] inline vfloat<W> floor(const vfloat<W>& a) noexcept {
-  return lanewise(a, [](const auto& x) { return stdx::floor(x); });
+  return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return stdx::floor(x); });
 }
 /// Lane-wise e^x.
 template <int W>
 [[gnu::always_inline]] inline vfloat<W> exp(const vfloat<W>& a) noexcept {
-  return lanewise(a, [](const auto& x) { return stdx::exp(x); });
+  return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return stdx::exp(x); });
 }
 /// Lane-wise natural logarithm.
 template <int W>
 [[gnu::always_inline]] inline vfloat<W> log(const vfloat<W>& a) noexcept {
-  return lanewise(a, [](const auto& x) { return stdx::log(x); });
+  return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return stdx::log(x); });
 }
 /// Lane-wise sine.
 template <int W>
 [[gnu::always_inline]] inline vfloat<W> sin(const vfloat<W>& a) noexcept {
-  return lanewise(a, [](const auto& x) { return stdx::sin(x); });
+  return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return stdx::sin(x); });
 }
 /// Lane-wise cosine.
 template <int W>
 [[gnu::always_inline]] inline vfloat<W> cos(const vfloat<W>& a) noexcept {
-  return lanewise(a, [](const auto& x) { return stdx::cos(x); });
+  return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return stdx::cos(x); });
 }
 /// Lane-wise base^exponent (base >= 0).
 template <int W>
 [[gnu::always_inline]] inline vfloat<W> pow(const vfloat<W>& base, const vfloat<W>& exponent) noexcept {
-  return lanewise(base, exponent, [](const auto& x, const auto& y) { return stdx::pow(x, y); });
+  return lanewise(base, exponent, [](const auto& x, const auto& y) __attribute__((always_inline)) { return stdx::pow(x, y); });
 }
 /// True where a lane is neither NaN nor infinite.
 template <int W>

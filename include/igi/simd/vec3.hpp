@@ -17,12 +17,12 @@ struct vec3 {
   /// All lanes (0, 0, 0).
   constexpr vec3() noexcept = default;
   /// From three packets.
-  constexpr vec3(const vfloat<W>& x_, const vfloat<W>& y_, const vfloat<W>& z_) noexcept : x(x_), y(y_), z(z_) {}
+  [[gnu::always_inline]] constexpr vec3(const vfloat<W>& x_, const vfloat<W>& y_, const vfloat<W>& z_) noexcept : x(x_), y(y_), z(z_) {}
   /// Every lane `v`.
-  vec3(const glm::vec3& v) noexcept : x(v.x), y(v.y), z(v.z) {}  // NOLINT: broadcast
+  [[gnu::always_inline]] vec3(const glm::vec3& v) noexcept : x(v.x), y(v.y), z(v.z) {}  // NOLINT: broadcast
 
   /// Lane `i` as a GLM vector.
-  glm::vec3 operator[](int i) const noexcept { return {x[i], y[i], z[i]}; }
+  [[gnu::always_inline]] glm::vec3 operator[](int i) const noexcept { return {x[i], y[i], z[i]}; }
   /// Sets lane `i`.
   [[gnu::always_inline]] void set(int i, const glm::vec3& v) noexcept {
     x.set(i, v.x);
@@ -44,10 +44,10 @@ struct vec3 {
   [[gnu::always_inline]] friend vec3 operator*(const vfloat<W>& s, const vec3& a) noexcept { return a * s; }
   [[gnu::always_inline]] friend vec3 operator/(const vec3& a, const vfloat<W>& s) noexcept { return a * (vfloat<W>(1.0f) / s); }
   [[gnu::always_inline]] friend vec3 operator-(const vec3& a) noexcept { return {-a.x, -a.y, -a.z}; }
-  vec3& operator+=(const vec3& b) noexcept { return *this = *this + b; }
-  vec3& operator-=(const vec3& b) noexcept { return *this = *this - b; }
-  vec3& operator*=(const vec3& b) noexcept { return *this = *this * b; }
-  vec3& operator*=(const vfloat<W>& s) noexcept { return *this = *this * s; }
+  [[gnu::always_inline]] vec3& operator+=(const vec3& b) noexcept { return *this = *this + b; }
+  [[gnu::always_inline]] vec3& operator-=(const vec3& b) noexcept { return *this = *this - b; }
+  [[gnu::always_inline]] vec3& operator*=(const vec3& b) noexcept { return *this = *this * b; }
+  [[gnu::always_inline]] vec3& operator*=(const vfloat<W>& s) noexcept { return *this = *this * s; }
 };
 
 /// Lane-wise dot product.

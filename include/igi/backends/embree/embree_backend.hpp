@@ -1,14 +1,23 @@
 #pragma once
 /// \file
-/// `EmbreeBackend<W>` (W = 1, 4, 8, 16): Embree 3 behind the igi Backend interface. A two-level
-/// scene: one Embree scene per Mesh (its triangle geometry has geomID = mesh index) and a top
-/// scene of instances (instID = instance index), so moving an instance re-commits only the top
-/// level and changing a mesh's vertices refits that mesh's BVH. Packets go to rtcIntersect1/4/8/16
-/// and rtcOccluded1/4/8/16; Embree errors become igi::EmbreeError carrying Embree's message.
+/// `EmbreeBackend<W>` (W = 1, 4, 8, 16): Embree 3 behind the igi Backend interface.
+///
+/// Static geometry is flattened: every instance that has not moved since construction has its
+/// triangles in world space in one Embree scene, so Embree builds a single BVH over the whole
+/// static scene. (Sponza's 170 instances of 44 meshes as Embree instances overlap so much that
+/// rays traced several times slower.) An instance leaves the flattened scene the first time it
+/// moves or its mesh's vertices change, and from then on is an Embree instance of a per-mesh scene
+/// (geomID = mesh index): moving it re-commits only the small top level, and changing the mesh's
+/// vertices refits that mesh's BVH. When flattening would copy more than the constructor's
+/// `flatten_limit` triangles (a mesh instanced many times, like the paper's power plant),
+/// meshes used by several instances stay instanced from the start. Either way hits report
+/// geomID = mesh index and instID = instance index. Packets go to rtcIntersect1/4/8/16 and
+/// rtcOccluded1/4/8/16; Embree errors become igi::EmbreeError carrying Embree's message.
 /// Link with the CMake target igi::embree. Embree runs much faster with denormals flushed to zero
 /// (_MM_SET_FLUSH_ZERO_MODE / _MM_SET_DENORMALS_ZERO_MODE on each tracing thread); the backend
 /// leaves the caller's floating-point mode alone.
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstring>
@@ -130,10 +139,16 @@ class EmbreeBackend {
   /// Name for tables and messages.
   static constexpr const char* name() noexcept { return "embree"; }
 
-  /// Builds the two-level scene on a new Embree device made with `device_config` (Embree's
-  /// rtcNewDevice string, e.g. "threads=1"); throws std::invalid_argument on a malformed scene and
-  /// EmbreeError when Embree reports a problem.
-  explicit EmbreeBackend(const Scene& scene, const std::string& device_config = "")
+  /// Flattening copies at most this many world-space triangles by default (about 1 GB of Embree
+  /// data with vertices and BVH): beyond it, meshes with several instances stay Embree instances.
+  static constexpr std::size_t default_flatten_limit = std::size_t(16) << 20;
+
+  /// Builds the scene on a new Embree device made with `device_config` (Embree's rtcNewDevice
+  /// string, e.g. "threads=1"), flattening up to `flatten_limit` triangles (0: only meshes with a
+  /// single instance); throws std::invalid_argument on a malformed scene and EmbreeError when
+  /// Embree reports a problem.
+  explicit EmbreeBackend(const Scene& scene, const std::string& device_config = "",
+                         std::size_t flatten_limit = default_flatten_limit)
       : state_(std::make_unique<State>()) {
     validate_for_tracing(scene, "igi::EmbreeBackend");
     state_->device = rtcNewDevice(device_config.c_str());
@@ -142,11 +157,38 @@ class EmbreeBackend {
                         "\") failed: " + detail::embree_error_name(rtcGetDeviceError(nullptr)));
     rtcSetDeviceErrorFunction(state_->device, &State::on_error, state_.get());
 
-    for (std::size_t m = 0; m < scene.meshes.size(); ++m) add_mesh(scene.meshes[m], unsigned(m));
+    for (const Mesh& mesh : scene.meshes) add_mesh(mesh);
     state_->top = rtcNewScene(state_->device);
     check("rtcNewScene (instances)");
-    for (std::size_t i = 0; i < scene.instances.size(); ++i) add_instance(scene.instances[i], unsigned(i));
-    commit_all();
+    state_->flat = rtcNewScene(state_->device);
+    rtcSetSceneFlags(state_->flat, RTC_SCENE_FLAG_ROBUST);  // watertight, as the mesh scenes
+    check("rtcNewScene (flattened)");
+    // The flattened scene is itself one instance of the top level, with the id after the instances'.
+    state_->flat_id = unsigned(scene.instances.size());
+    state_->flat_instance = rtcNewGeometry(state_->device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(state_->flat_instance, state_->flat);
+    rtcSetGeometryTimeStepCount(state_->flat_instance, 1);
+    const glm::mat4 identity(1.0f);
+    rtcSetGeometryTransform(state_->flat_instance, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &identity[0][0]);
+    rtcAttachGeometryByID(state_->top, state_->flat_instance, state_->flat_id);
+    check("flattened scene instance");
+
+    std::vector<std::size_t> users(scene.meshes.size(), 0);
+    std::size_t world_triangles = 0;
+    for (const Instance& instance : scene.instances) {
+      ++users[std::size_t(instance.mesh)];
+      world_triangles += scene.meshes[std::size_t(instance.mesh)].triangles.size();
+    }
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+      const Instance& instance = scene.instances[i];
+      state_->instances.push_back(InstanceEntry{instance.name, std::size_t(instance.mesh), instance.transform});
+      if (world_triangles <= flatten_limit || users[std::size_t(instance.mesh)] == 1)
+        flatten(unsigned(i));
+      else
+        instantiate(unsigned(i));
+    }
+    state_->flat_dirty = state_->top_dirty = true;
+    commit();
   }
 
   /// Moves a backend; the source is left empty.
@@ -166,6 +208,7 @@ class EmbreeBackend {
     requires(N == W || N == 1)
   void intersect(RayPacket<N>& rays, HitPacket<N>& hits, const vmask<N>& mask) const {
     trace_closest<N>(state_->top, rays, hits, Coherence::coherent, mask);
+    remap_flattened(hits, mask);
   }
 
   /// intersect() with Embree's coherence flag chosen by the caller (incoherent for bounce rays).
@@ -173,6 +216,7 @@ class EmbreeBackend {
     requires(N == W || N == 1)
   void intersect(RayPacket<N>& rays, HitPacket<N>& hits, Coherence coherence, const vmask<N>& mask) const {
     trace_closest<N>(state_->top, rays, hits, coherence, mask);
+    remap_flattened(hits, mask);
   }
 
   /// Lanes of `mask` whose interval [tnear, tfar] is blocked; Embree sets their tfar to -inf.
@@ -209,8 +253,10 @@ class EmbreeBackend {
     probe.name = mesh.name;
     probe.positions.resize(mesh.vertex_count);
     check_positions(probe, positions, "igi::EmbreeBackend");
-    if (mesh.geometry == nullptr) return;  // No triangles: nothing to refit.
-    std::memcpy(mesh.vertices, positions.data(), positions.size() * sizeof(glm::vec3));
+    std::copy(positions.begin(), positions.end(), mesh.positions.begin());
+    mesh.changed = true;
+    state_->top_dirty = true;
+    if (mesh.geometry == nullptr) return;  // No triangles or no mesh scene yet: nothing to refit.
     rtcUpdateGeometryBuffer(mesh.geometry, RTC_BUFFER_TYPE_VERTEX, 0);
     rtcCommitGeometry(mesh.geometry);
     check("set_mesh_positions");
@@ -218,8 +264,18 @@ class EmbreeBackend {
     state_->top_dirty = true;  // The instances' bounds changed with the mesh.
   }
 
-  /// Commits what changed: refits changed meshes, then re-commits the instance level.
+  /// Commits what changed: instances that moved or whose mesh changed leave the flattened scene
+  /// (re-transforming a flattened copy would rebuild the whole flattened BVH at every change),
+  /// changed meshes are refitted, then the flattened scene and the instance level re-committed.
   void commit() {
+    for (const auto& [index, transform] : state_->pending_transforms) {
+      state_->instances[std::size_t(index)].transform = transform;
+      if (state_->instances[std::size_t(index)].instanced == nullptr) move_out_of_flattened(unsigned(index));
+    }
+    for (unsigned i = 0; i < unsigned(state_->instances.size()); ++i)
+      if (state_->instances[i].flattened != nullptr && state_->meshes[state_->instances[i].mesh].changed)
+        move_out_of_flattened(i);
+    for (MeshEntry& mesh : state_->meshes) mesh.changed = false;
     for (MeshEntry& mesh : state_->meshes)
       if (mesh.dirty) {
         rtcCommitScene(mesh.scene);
@@ -227,12 +283,19 @@ class EmbreeBackend {
       }
     // Embree rebuilds the instance level only over instances marked modified: those of a refitted
     // mesh must be, or the top level keeps their old bounds.
-    for (std::size_t i = 0; i < state_->instances.size(); ++i)
-      if (state_->meshes[state_->instance_mesh[i]].dirty) rtcCommitGeometry(state_->instances[i]);
+    for (const InstanceEntry& instance : state_->instances)
+      if (instance.instanced != nullptr && state_->meshes[instance.mesh].dirty) rtcCommitGeometry(instance.instanced);
     for (MeshEntry& mesh : state_->meshes) mesh.dirty = false;
+    if (state_->flat_dirty) {
+      rtcCommitScene(state_->flat);
+      check("rtcCommitScene (flattened)");
+      rtcCommitGeometry(state_->flat_instance);
+      state_->flat_dirty = false;
+      state_->top_dirty = true;
+    }
     if (state_->top_dirty) {
       for (const auto& [index, transform] : state_->pending_transforms) {
-        RTCGeometry instance = state_->instances[std::size_t(index)];
+        RTCGeometry instance = state_->instances[std::size_t(index)].instanced;
         rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &transform[0][0]);
         rtcCommitGeometry(instance);
       }
@@ -254,24 +317,38 @@ class EmbreeBackend {
   void check(const std::string& what) const { state_->check(what); }
 
  private:
-  /// One mesh: its Embree scene and triangle geometry.
+  /// One mesh: its data and, once an instance of it is traced as an Embree instance, its scene.
   struct MeshEntry {
     std::string name;                 ///< For messages.
-    RTCScene scene = nullptr;         ///< Scene holding only this mesh.
-    RTCGeometry geometry = nullptr;   ///< Triangle geometry (null for a mesh without triangles).
-    float* vertices = nullptr;        ///< Embree-owned vertex buffer.
-    std::size_t vertex_count = 0;     ///< Vertices.
-    bool dirty = false;               ///< Needs a refit at commit().
+    std::vector<glm::vec3> positions; ///< Object-space vertices, one padding vertex at the end (Embree reads 16 bytes per vertex).
+    std::vector<glm::uvec3> triangles;  ///< Vertex indices, shared by the mesh scene and every flattened copy.
+    std::size_t vertex_count = 0;     ///< Vertices (without the padding).
+    RTCScene scene = nullptr;         ///< Scene holding only this mesh (built on first use).
+    RTCGeometry geometry = nullptr;   ///< Its triangle geometry (null for a mesh without triangles).
+    bool dirty = false;               ///< Its scene needs a commit at commit().
+    bool changed = false;             ///< Vertices changed since the last commit().
+  };
+
+  /// One instance: flattened into the world-space scene or an Embree instance of its mesh's scene.
+  struct InstanceEntry {
+    std::string name;                    ///< For messages.
+    std::size_t mesh = 0;                ///< Mesh index.
+    glm::mat4 transform{1.0f};           ///< Object to world.
+    RTCGeometry flattened = nullptr;     ///< World-space triangles in the flattened scene, or null.
+    RTCGeometry instanced = nullptr;     ///< Embree instance in the top scene, or null.
   };
 
   /// Everything Embree owns, kept at a stable address for the error callback.
   struct State {
     RTCDevice device = nullptr;             ///< The device.
-    RTCScene top = nullptr;                 ///< Instance level.
+    RTCScene top = nullptr;                 ///< Instance level: the flattened scene and the moved instances.
+    RTCScene flat = nullptr;                ///< World-space triangles of the instances that never moved.
+    RTCGeometry flat_instance = nullptr;    ///< The flattened scene's instance in the top scene.
+    unsigned flat_id = 0;                   ///< Its geometry id there (after every instance index).
     std::vector<MeshEntry> meshes;          ///< One per Scene mesh.
-    std::vector<RTCGeometry> instances;     ///< One per Scene instance.
-    std::vector<std::size_t> instance_mesh;  ///< Mesh index of each instance.
+    std::vector<InstanceEntry> instances;   ///< One per Scene instance.
     std::vector<std::pair<int, glm::mat4>> pending_transforms;  ///< Instance moves waiting for commit().
+    bool flat_dirty = false;                ///< The flattened scene needs a rebuild.
     bool top_dirty = false;                 ///< Needs a re-commit.
     mutable std::mutex error_mutex;         ///< Guards `error_message` (Embree may report from any thread).
     std::string error_message;              ///< First message since the last check.
@@ -296,7 +373,12 @@ class EmbreeBackend {
     }
 
     ~State() {
-      for (RTCGeometry instance : instances) rtcReleaseGeometry(instance);
+      for (InstanceEntry& instance : instances) {
+        if (instance.instanced) rtcReleaseGeometry(instance.instanced);
+        if (instance.flattened) rtcReleaseGeometry(instance.flattened);
+      }
+      if (flat_instance) rtcReleaseGeometry(flat_instance);
+      if (flat) rtcReleaseScene(flat);
       if (top) rtcReleaseScene(top);
       for (MeshEntry& mesh : meshes) {
         if (mesh.geometry) rtcReleaseGeometry(mesh.geometry);
@@ -306,49 +388,102 @@ class EmbreeBackend {
     }
   };
 
-  void add_mesh(const Mesh& source, unsigned index) {
+  /// Copies a mesh's data; its Embree scene is made when an instance first needs it.
+  void add_mesh(const Mesh& source) {
     MeshEntry& mesh = state_->meshes.emplace_back();
     mesh.name = source.name;
     mesh.vertex_count = source.positions.size();
+    mesh.positions.reserve(source.positions.size() + 1);
+    mesh.positions.assign(source.positions.begin(), source.positions.end());
+    mesh.positions.emplace_back(0.0f);
+    mesh.triangles = source.triangles;
+  }
+
+  /// A triangle geometry over `mesh`'s shared indices with `vertices` as its vertex buffer.
+  RTCGeometry new_triangles(const MeshEntry& mesh, const void* vertices, bool embree_owned_vertices) {
+    RTCGeometry geometry = rtcNewGeometry(state_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    if (!embree_owned_vertices)
+      rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices, 0,
+                                 sizeof(glm::vec3), mesh.vertex_count);
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.triangles.data(), 0,
+                               sizeof(glm::uvec3), mesh.triangles.size());
+    check("triangle buffers (mesh '" + mesh.name + "')");
+    return geometry;
+  }
+
+  /// Makes mesh `index`'s own scene if it has none yet (geomID = mesh index inside it).
+  void ensure_mesh_scene(std::size_t index) {
+    MeshEntry& mesh = state_->meshes[index];
+    if (mesh.scene != nullptr) return;
     mesh.scene = rtcNewScene(state_->device);
     // Robust traversal and the watertight triangle test: rays through shared edges never leak.
     rtcSetSceneFlags(mesh.scene, RTC_SCENE_FLAG_ROBUST);
     check("rtcNewScene (mesh '" + mesh.name + "')");
-    if (source.triangles.empty()) return;
-    mesh.geometry = rtcNewGeometry(state_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    mesh.dirty = true;
+    if (mesh.triangles.empty()) return;
+    mesh.geometry = new_triangles(mesh, mesh.positions.data(), false);
     // Vertex changes refit the existing hierarchy instead of rebuilding it.
     rtcSetGeometryBuildQuality(mesh.geometry, RTC_BUILD_QUALITY_REFIT);
-    mesh.vertices = static_cast<float*>(rtcSetNewGeometryBuffer(mesh.geometry, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                                RTC_FORMAT_FLOAT3, sizeof(glm::vec3),
-                                                                source.positions.size()));
-    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(mesh.geometry, RTC_BUFFER_TYPE_INDEX, 0,
-                                                                   RTC_FORMAT_UINT3, sizeof(glm::uvec3),
-                                                                   source.triangles.size()));
-    check("rtcSetNewGeometryBuffer (mesh '" + mesh.name + "')");
-    std::memcpy(mesh.vertices, source.positions.data(), source.positions.size() * sizeof(glm::vec3));
-    std::memcpy(indices, source.triangles.data(), source.triangles.size() * sizeof(glm::uvec3));
     rtcCommitGeometry(mesh.geometry);
-    rtcAttachGeometryByID(mesh.scene, mesh.geometry, index);
+    rtcAttachGeometryByID(mesh.scene, mesh.geometry, unsigned(index));
     check("rtcAttachGeometryByID (mesh '" + mesh.name + "')");
-    mesh.dirty = true;
   }
 
-  void add_instance(const Instance& source, unsigned index) {
+  /// Copies instance `index`'s triangles into the flattened scene in world space (geomID = instance index).
+  void flatten(unsigned index) {
+    InstanceEntry& instance = state_->instances[index];
+    const MeshEntry& mesh = state_->meshes[instance.mesh];
+    if (mesh.triangles.empty()) return;
+    RTCGeometry geometry = new_triangles(mesh, nullptr, true);
+    auto* world = static_cast<glm::vec3*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                 sizeof(glm::vec3), mesh.vertex_count));
+    check("rtcSetNewGeometryBuffer (instance '" + instance.name + "')");
+    for (std::size_t v = 0; v < mesh.vertex_count; ++v)
+      world[v] = glm::vec3(instance.transform * glm::vec4(mesh.positions[v], 1.0f));
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(state_->flat, geometry, index);
+    check("flattened instance " + std::to_string(index) + " ('" + instance.name + "')");
+    instance.flattened = geometry;
+    state_->flat_dirty = true;
+  }
+
+  /// Removes instance `index`'s triangles (if any) from the flattened scene and traces it as an Embree instance.
+  void move_out_of_flattened(unsigned index) {
+    InstanceEntry& instance = state_->instances[index];
+    if (instance.flattened == nullptr) return instantiate(index);  // a mesh without triangles
+    rtcDetachGeometry(state_->flat, index);
+    rtcReleaseGeometry(instance.flattened);
+    instance.flattened = nullptr;
+    check("detaching flattened instance " + std::to_string(index));
+    state_->flat_dirty = true;
+    instantiate(index);
+  }
+
+  /// Traces instance `index` as an Embree instance of its mesh's scene (instID = instance index).
+  void instantiate(unsigned index) {
+    InstanceEntry& entry = state_->instances[index];
+    ensure_mesh_scene(entry.mesh);
     RTCGeometry instance = rtcNewGeometry(state_->device, RTC_GEOMETRY_TYPE_INSTANCE);
-    state_->instances.push_back(instance);
-    state_->instance_mesh.push_back(std::size_t(source.mesh));
-    rtcSetGeometryInstancedScene(instance, state_->meshes[std::size_t(source.mesh)].scene);
+    entry.instanced = instance;
+    rtcSetGeometryInstancedScene(instance, state_->meshes[entry.mesh].scene);
     rtcSetGeometryTimeStepCount(instance, 1);
-    rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &source.transform[0][0]);
+    rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &entry.transform[0][0]);
     rtcCommitGeometry(instance);
     rtcAttachGeometryByID(state_->top, instance, index);
-    check("instance " + std::to_string(index) + " ('" + source.name + "')");
+    check("instance " + std::to_string(index) + " ('" + entry.name + "')");
     state_->top_dirty = true;
   }
 
-  void commit_all() {
-    // Mesh scenes are committed before the instances that reference them.
-    commit();
+  /// Hits inside the flattened scene carry (geomID = instance, instID = flat_id): rewritten to
+  /// (geomID = mesh, instID = instance) like hits through Embree instances.
+  template <int N>
+  void remap_flattened(HitPacket<N>& hits, const vmask<N>& mask) const noexcept {
+    for (int lane = 0; lane < N; ++lane)
+      if (mask[lane] && hits.instID[lane] == state_->flat_id) {
+        const unsigned instance = hits.geomID[lane];
+        hits.instID[lane] = instance;
+        hits.geomID[lane] = unsigned(state_->instances[instance].mesh);
+      }
   }
 
   /// Embree's valid[] array: -1 for lanes in `mask` with a non-empty interval, 0 elsewhere.
