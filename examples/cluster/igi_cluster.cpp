@@ -14,7 +14,7 @@
 #include <oneapi/tbb/info.h>
 
 #include "common/render_options.hpp"
-#include "igi/distributed/animation.hpp"
+#include "igi/render/animation.hpp"
 #include "igi/distributed/tile_farm.hpp"
 #include "igi/lighting/qmc_vpl_sampler.hpp"
 #include "igi/render/filter_choice.hpp"

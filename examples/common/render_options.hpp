@@ -2,6 +2,7 @@
 // The command line igi-render and igi-cluster share: scene, camera, image, IGI settings and the
 // backend choice, parsed with CLI11, plus the scene loading and backend dispatch that follow it.
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -112,6 +113,59 @@ int with_backend(const RenderOptions& o, Run&& run) {
   if (p == 64) throw UsageError("--packet 64: the reference backend is built for packets of 1, 4, 8 or 16 rays");
   return run.template operator()<ReferenceBackend<16>>();
 }
+
+/// The files of an image sequence (an animation), named after --output: a name with a frame number
+/// conversion %d or %0Nd (N = 1..9; a literal percent sign is %%) gets the number printed there
+/// (frames/%04d.png -> frames/0007.png); any other name gets _NNNN before its extension
+/// (out.png -> out_0007.png), four digits or as many as the last frame needs.
+class FrameNames {
+ public:
+  /// Names for frames 0..frames-1 of `output`; throws UsageError for a malformed pattern.
+  FrameNames(const std::string& output, int frames) {
+    int conversions = 0;
+    std::string* text = &before_;
+    for (std::size_t i = 0; i < output.size(); ++i) {
+      if (output[i] != '%') {
+        *text += output[i];
+        continue;
+      }
+      if (i + 1 < output.size() && output[i + 1] == '%') {
+        *text += '%';
+        ++i;
+        continue;
+      }
+      std::size_t j = i + 1;
+      int digits = 1;
+      if (j + 1 < output.size() && output[j] == '0' && output[j + 1] >= '1' && output[j + 1] <= '9') {
+        digits = output[j + 1] - '0';
+        j += 2;
+      }
+      if (j >= output.size() || output[j] != 'd')
+        throw UsageError("--output '" + output + "': write the frame number as %d or %0Nd (N = 1..9), a percent sign as %%");
+      if (++conversions > 1) throw UsageError("--output '" + output + "' has more than one frame number");
+      digits_ = digits;
+      text = &after_;
+      i = j;
+    }
+    if (conversions == 0) {
+      const std::filesystem::path path(before_);
+      before_ = (path.parent_path() / path.stem()).string() + "_";
+      after_ = path.extension().string();
+      digits_ = std::max(4, int(std::to_string(std::max(frames - 1, 0)).size()));
+    }
+  }
+
+  /// The file of frame `frame`.
+  std::filesystem::path operator()(int frame) const {
+    std::string number = std::to_string(frame);
+    if (int(number.size()) < digits_) number.insert(0, std::size_t(digits_) - number.size(), '0');
+    return before_ + number + after_;
+  }
+
+ private:
+  std::string before_, after_;  ///< Text around the frame number.
+  int digits_ = 4;              ///< Minimum digits of the frame number (zero padded).
+};
 
 /// Writes an image: PNG gets the tone-mapped pixels, EXR and PFM the linear radiance.
 inline void write_output(const std::filesystem::path& path, const Image& hdr, const Rgb8Image& rgb8) {

@@ -1,5 +1,6 @@
-// igi-render: renders a glTF scene or the built-in Cornell box with the IGI pipeline (or, later,
-// the reference path tracer) and writes the image; the front door of every measurement.
+// igi-render: renders a glTF scene or the built-in Cornell box with the IGI pipeline (or the
+// reference path tracer) and writes the image, or with --animate an image sequence; the front door
+// of every measurement. A progress bar appears on stderr when it is a terminal.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -13,7 +14,9 @@
 #include <nlohmann/json.hpp>
 #include <oneapi/tbb/info.h>
 
+#include "common/progress_bar.hpp"
 #include "common/render_options.hpp"
+#include "igi/render/animation.hpp"
 #include "igi/lighting/qmc_vpl_sampler.hpp"
 #include "igi/render/filter_choice.hpp"
 #include "igi/render/path_tracer.hpp"
@@ -25,6 +28,11 @@ namespace {
 
 using namespace igi::programs;
 
+/// igi-render's own options beside the shared ones.
+struct Options : RenderOptions {
+  std::string animate = "none";  ///< What moves from frame to frame (none: a still scene).
+};
+
 /// The median of some values.
 double median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
@@ -33,8 +41,8 @@ double median(std::vector<double> values) {
 }
 
 /// Prints the statistics, as one JSON object with --stats json, else as two lines.
-void report(const igi::Scene& scene, const RenderOptions& options, const char* backend, int packet, double ms,
-            const igi::RayCounts& rays, const nlohmann::json& extra) {
+void report(const igi::Scene& scene, const Options& options, const char* backend, int packet, double ms,
+            const igi::RayCounts& rays, const std::string& written, const nlohmann::json& extra) {
   const double mrays = ms > 0.0 ? double(rays.total()) / (ms * 1e3) : 0.0;
   const int threads = options.settings.threads > 0 ? options.settings.threads : tbb::info::default_concurrency();
   if (options.stats == "json") {
@@ -55,6 +63,7 @@ void report(const igi::Scene& scene, const RenderOptions& options, const char* b
         {"threads", threads},
         {"integrator", options.integrator},
         {"output", options.output},
+        {"animate", options.animate},
     };
     stats.update(extra);
     std::cout << stats.dump() << std::endl;
@@ -66,26 +75,39 @@ void report(const igi::Scene& scene, const RenderOptions& options, const char* b
   std::printf("frame time %.2f ms (median of %d), %.1f fps, %.2f Mrays/s (%llu primary, %llu shadow, %llu secondary)\n",
               ms, options.frames, ms > 0.0 ? 1000.0 / ms : 0.0, mrays, (unsigned long long)rays.primary,
               (unsigned long long)rays.shadow, (unsigned long long)rays.secondary);
-  std::printf("wrote %s\n", options.output.c_str());
+  std::printf("wrote %s\n", written.c_str());
 }
 
 /// Renders with the IGI pipeline over backend B and writes the image and statistics.
 template <class B>
-int run_igi(igi::Scene& scene, const igi::Camera& camera, const RenderOptions& options) {
+int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
   const igi::GltfMaterialShader surface(scene);
   const igi::StandardBrdf brdf;
   const igi::QmcVplSampler sampler;
   const igi::FilterChoice filter(options.filter);
   igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::QmcVplSampler, igi::FilterChoice> renderer(
       scene, options.settings, surface, brdf, sampler, filter);
+  const igi::Animation animation = igi::parse_animation(options.animate);
+  const bool sequence = animation != igi::Animation::none;
+  const igi::Scene initial = sequence ? scene : igi::Scene{};  // animations are functions of the initial scene
+  const FrameNames names(options.output, options.frames);
   std::vector<double> milliseconds;
   igi::Frame frame;
+  ProgressBar progress(std::uint64_t(options.frames), "frames");
   for (int f = 0; f < options.frames; ++f) {
-    frame = renderer.render(camera, std::uint32_t(f));
+    const auto index = std::uint32_t(f);
+    const igi::Camera view = sequence ? igi::apply_changes(renderer, igi::animate(initial, camera, animation, index)) : camera;
+    frame = renderer.render(view, index);
     milliseconds.push_back(frame.statistics.milliseconds);
+    if (sequence) write_output(names(f), frame.hdr, frame.rgb8);
+    progress.advance();
   }
-  write_output(options.output, frame.hdr, frame.rgb8);
-  report(scene, options, B::name(), B::width, median(milliseconds), frame.statistics.rays,
+  progress.finish();
+  if (!sequence) write_output(options.output, frame.hdr, frame.rgb8);
+  const std::string written = sequence ? names(0).string() + " .. " + names(options.frames - 1).string() + " (" +
+                                             std::to_string(options.frames) + " frames)"
+                                       : options.output;
+  report(scene, options, B::name(), B::width, median(milliseconds), frame.statistics.rays, written,
          {{"vpls_per_pixel", options.settings.vpls_per_pixel},
           {"interleave", options.settings.interleave},
           {"aa", options.settings.antialiasing},
@@ -99,7 +121,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const RenderOptions& o
 /// Renders with the reference path tracer over backend B (the frames are passes of --spp each,
 /// accumulated) and writes the image and statistics.
 template <class B>
-int run_path(igi::Scene& scene, const igi::Camera& camera, const RenderOptions& options) {
+int run_path(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
   const B backend(scene);
   const igi::GltfMaterialShader surface(scene);
   const igi::StandardBrdf brdf;
@@ -109,11 +131,20 @@ int run_path(igi::Scene& scene, const igi::Camera& camera, const RenderOptions& 
   igi::PathTracer<B, igi::GltfMaterialShader, igi::StandardBrdf> tracer(scene, backend, surface, brdf, settings);
   tracer.reset(camera, options.settings.width, options.settings.height);
   std::vector<double> milliseconds;
+  // Each pass is added in steps so the bar moves; samples are pure functions of their index, so
+  // the image is the same as with one add_samples(spp). 16 steps per pass: smooth enough to watch.
+  const int step = std::max(1, options.spp / 16);
+  ProgressBar progress(std::uint64_t(options.frames) * std::uint64_t(options.spp), "spp");
   for (int f = 0; f < options.frames; ++f) {
     const auto start = std::chrono::steady_clock::now();
-    tracer.add_samples(options.spp);
+    for (int added = 0; added < options.spp; added += step) {
+      const int now = std::min(step, options.spp - added);
+      tracer.add_samples(now);
+      progress.advance(std::uint64_t(now));
+    }
     milliseconds.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
+  progress.finish();
   const igi::Image hdr = tracer.image();
   // A converged reference has no previous frame: it is tone mapped with its own statistics.
   igi::LuminanceStatistics luminance;
@@ -132,24 +163,30 @@ int run_path(igi::Scene& scene, const igi::Camera& camera, const RenderOptions& 
   igi::RayCounts per_pass = tracer.statistics().rays;
   const auto passes = std::uint64_t(options.frames);
   per_pass = {per_pass.primary / passes, per_pass.shadow / passes, per_pass.secondary / passes};
-  report(scene, options, B::name(), B::width, median(milliseconds), per_pass,
+  report(scene, options, B::name(), B::width, median(milliseconds), per_pass, options.output,
          {{"spp", options.spp}, {"spp_total", tracer.samples()}});
   return 0;
 }
 
 /// Runs the chosen integrator over backend B.
 template <class B>
-int run(igi::Scene& scene, const igi::Camera& camera, const RenderOptions& options) {
+int run(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
   return options.integrator == "path" ? run_path<B>(scene, camera, options) : run_igi<B>(scene, camera, options);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  RenderOptions options;
+  Options options;
   CLI::App app{"igi-render: interactive global illumination (instant radiosity with interleaved sampling)"};
   add_render_options(app, options, "worker threads (0: all cores)",
                      "frames to render (timings are their median; with --integrator path: passes of --spp samples)");
+  app.add_option("--animate", options.animate,
+                 "render --frames frames of a moving scene to an image sequence: -o out.png writes out_0000.png, "
+                 "out_0001.png, ...; -o frames/%04d.png numbers them printf-style. light: the lights circle, "
+                 "object: the smallest object slides, camera: the view orbits the scene")
+      ->check(CLI::IsMember({"none", "light", "object", "camera"}))
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -160,6 +197,11 @@ int main(int argc, char** argv) {
   }
   try {
     check_render_options(options);
+    if (options.animate != "none") {
+      if (options.integrator != "igi")
+        throw UsageError("--animate renders with --integrator igi only (the path tracer accumulates one still image)");
+      static_cast<void>(FrameNames(options.output, options.frames));  // a malformed %d pattern fails here, before any rendering
+    }
   } catch (const std::exception& e) {
     std::cerr << "igi-render: " << e.what() << "\n";
     return 2;
@@ -167,6 +209,11 @@ int main(int argc, char** argv) {
   try {
     igi::Scene scene = load_scene(options);
     const igi::Camera camera = choose_camera(scene, options);
+    try {
+      igi::animate(scene, camera, igi::parse_animation(options.animate), 1);  // can this scene move that way?
+    } catch (const igi::SettingsError& e) {
+      throw UsageError(e.what());
+    }
     return with_backend(options, [&]<class B>() { return run<B>(scene, camera, options); });
   } catch (const UsageError& e) {
     std::cerr << "igi-render: " << e.what() << "\n";

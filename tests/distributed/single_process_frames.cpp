@@ -1,5 +1,5 @@
 // single-process-frames: the frames igi-cluster renders, made by one process with igi::Renderer
-// and the same deterministic scene changes (igi/distributed/animation.hpp). The distributed
+// and the same deterministic scene changes (igi/render/animation.hpp). The distributed
 // tests compare the cluster's frames with these pixel for pixel.
 #include <cstdio>
 #include <filesystem>
@@ -9,7 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "igi/backends/embree/embree_backend.hpp"
-#include "igi/distributed/animation.hpp"
+#include "igi/render/animation.hpp"
 #include "igi/io/image.hpp"
 #include "igi/lighting/qmc_vpl_sampler.hpp"
 #include "igi/render/filter_choice.hpp"
@@ -56,13 +56,9 @@ int main(int argc, char** argv) {
         renderer(scene, settings, surface, brdf, sampler, filter);
     const std::filesystem::path out(output);
     for (int f = 0; f < frames; ++f) {
-      const igi::SceneChanges changes = igi::animate(initial, camera, animation, std::uint32_t(f));
       // Only values that differ are set, as TileRenderer::apply does (an unchanged scene is not re-committed).
-      for (const auto& [index, light] : changes.lights) renderer.set_light(index, light);
-      for (const auto& [index, transform] : changes.instances)
-        if (renderer.scene().instances[std::size_t(index)].transform != transform)
-          renderer.set_instance_transform(index, transform);
-      const igi::Frame frame = renderer.render(changes.camera, std::uint32_t(f));
+      const igi::Camera view = igi::apply_changes(renderer, igi::animate(initial, camera, animation, std::uint32_t(f)));
+      const igi::Frame frame = renderer.render(view, std::uint32_t(f));
       char number[16];
       std::snprintf(number, sizeof number, "_%04d", f);
       igi::write_image(out.parent_path() / (out.stem().string() + number + out.extension().string()), frame.rgb8);

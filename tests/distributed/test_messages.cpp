@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "igi/distributed/animation.hpp"
+#include "igi/render/animation.hpp"
 #include "igi/distributed/messages.hpp"
 #include "igi/scene/cornell.hpp"
 

@@ -14,6 +14,7 @@
 
 #include <glm/glm.hpp>
 
+#include "igi/render/animation.hpp"
 #include "igi/render/pipeline.hpp"
 #include "igi/render/tone_mapping.hpp"
 #include "igi/scene/scene.hpp"
@@ -114,26 +115,6 @@ class ByteReader {
   const std::vector<std::uint8_t>* bytes_;
   std::string what_;
   std::size_t offset_ = 0;
-};
-
-/// Scene state that changes between frames: rank 0 broadcasts it at the start of every frame.
-/// Values are absolute (not deltas), so applying the same changes twice is harmless.
-struct SceneChanges {
-  Camera camera;                                      ///< The frame's camera.
-  std::vector<std::pair<int, PunctualLight>> lights;  ///< Punctual lights replaced, by index.
-  std::vector<std::pair<int, glm::mat4>> instances;   ///< Instance transforms replaced, by index.
-
-  /// Throws DistributedError if an index does not exist in `scene`.
-  void check(const Scene& scene) const {
-    for (const auto& [index, light] : lights)
-      if (index < 0 || std::size_t(index) >= scene.lights.size())
-        throw DistributedError("scene change names punctual light " + std::to_string(index) + " but the scene has " +
-                               std::to_string(scene.lights.size()));
-    for (const auto& [index, transform] : instances)
-      if (index < 0 || std::size_t(index) >= scene.instances.size())
-        throw DistributedError("scene change names instance " + std::to_string(index) + " but the scene has " +
-                               std::to_string(scene.instances.size()));
-  }
 };
 
 /// What rank 0 broadcasts at the start of a frame (or to say there are no more frames).

@@ -41,7 +41,7 @@ class TileRenderer {
         arena_(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic),
         tiles_(make_tiles(settings.width, settings.height, settings.tile_size)) {}
 
-  /// Applies broadcast scene changes (they take effect at the next begin_frame); throws DistributedError on bad indices.
+  /// Applies broadcast scene changes (they take effect at the next begin_frame); throws SettingsError on bad indices.
   void apply(const SceneChanges& changes) {
     changes.check(*scene_);
     camera_ = changes.camera;
