@@ -18,6 +18,7 @@
 
 #include "igi/backends/packet.hpp"
 #include "igi/scene/scene.hpp"
+#include "igi/scene/validate.hpp"
 
 namespace igi {
 
@@ -45,6 +46,11 @@ inline void validate_for_tracing(const Scene& scene, const char* backend) {
       for (int r = 0; r < 4; ++r)
         if (!std::isfinite(instance.transform[c][r]))
           fail("instance " + std::to_string(i) + " ('" + instance.name + "') has a non-finite transform");
+  }
+  try {
+    check_scene_extent(scene);
+  } catch (const SceneError& error) {
+    fail(error.what());
   }
 }
 

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "igi/scene/memory.hpp"
+
 namespace igi {
 
 /// A setting or argument that cannot be used; the message names it.
@@ -38,7 +40,10 @@ inline constexpr int max_interleave = 8;
 /// Largest anti-aliasing factor: 64 sub-samples per pixel is past any visible gain.
 inline constexpr int max_antialiasing = 64;
 
-/// Throws SettingsError naming the first setting out of range.
+/// Bytes a frame keeps per pixel: linear RGB as 3 floats (Frame::hdr) and 8-bit sRGB (Frame::rgb8).
+inline constexpr double frame_bytes_per_pixel = 3 * sizeof(float) + 3;
+
+/// Throws SettingsError naming the first setting out of range, or the size if the frame would not fit in memory (see memory_budget).
 inline void validate(const RenderSettings& s) {
   auto require = [](bool ok, const std::string& message) {
     if (!ok) throw SettingsError(message);
@@ -46,6 +51,9 @@ inline void validate(const RenderSettings& s) {
   require(s.width >= 1 && s.width <= max_image_edge && s.height >= 1 && s.height <= max_image_edge,
           "size " + std::to_string(s.width) + "x" + std::to_string(s.height) + " is outside 1.." +
               std::to_string(max_image_edge) + " per side");
+  if (const std::string shortfall = memory_shortfall(double(s.width) * double(s.height), frame_bytes_per_pixel);
+      !shortfall.empty())
+    throw SettingsError("size " + std::to_string(s.width) + "x" + std::to_string(s.height) + ": the frame " + shortfall);
   require(s.interleave >= 1 && s.interleave <= max_interleave,
           "interleave " + std::to_string(s.interleave) + " is outside 1.." + std::to_string(max_interleave));
   require(s.vpls_per_pixel >= 1 && s.vpls_per_pixel <= max_vpls_per_pixel,

@@ -33,6 +33,7 @@
 #include <tiny_gltf.h>
 
 #include "igi/scene/error.hpp"
+#include "igi/scene/memory.hpp"
 #include "igi/scene/scene.hpp"
 #include "igi/scene/validate.hpp"
 
@@ -365,6 +366,14 @@ class Loader {
     return entries;
   }
 
+  /// Fails before allocating if `count` elements of `components` 4-byte values do not fit in memory.
+  /// With a bufferView the elements lie in a buffer already in memory, whose size bounds them; an
+  /// accessor without one (zeros, then sparse) may claim any count, e.g. 2^40 triangles.
+  void require_memory(const std::string& label, std::size_t count, int components) const {
+    if (const std::string shortfall = memory_shortfall(double(count), 4.0 * double(components)); !shortfall.empty())
+      fail(label + ": count " + std::to_string(count) + " " + shortfall);
+  }
+
   /// Accessor `index` decoded to floats (count x components), sparse substitutions applied.
   std::vector<float> read_floats(int index, int components, std::initializer_list<int> allowed, std::string_view what) const {
     const tinygltf::Accessor& accessor = checked_accessor(index, components, allowed, what);
@@ -372,6 +381,7 @@ class Loader {
     const std::size_t element_size = component_size(accessor.componentType) * std::size_t(components);
     if (accessor.count > std::numeric_limits<std::size_t>::max() / element_size / sizeof(float))
       fail(label + ": count " + std::to_string(accessor.count) + " is impossibly large");
+    require_memory(label, accessor.count, components);
     std::vector<float> values;
     if (accessor.bufferView >= 0) {
       const std::size_t stride = stride_of(accessor, element_size, label);
@@ -406,6 +416,7 @@ class Loader {
     const std::size_t size = component_size(accessor.componentType);
     if (accessor.count > std::numeric_limits<std::size_t>::max() / sizeof(std::uint32_t))
       fail(label + ": count " + std::to_string(accessor.count) + " is impossibly large");
+    require_memory(label, accessor.count, 1);
     std::vector<std::uint32_t> result(accessor.count, 0u);  // glTF: no bufferView means zeros (before sparse)
     if (accessor.bufferView >= 0) {
       const std::size_t stride = stride_of(accessor, size, label);
@@ -477,6 +488,14 @@ class Loader {
       int height = 0;
       int channels = 0;
       constexpr int rgba = 4;  // stb expands grey, grey-alpha and RGB to RGBA8
+      // The header gives the size before anything is decoded; stb's buffer and the texture's copy
+      // exist together, hence two images' worth.
+      if (stbi_info_from_memory(image.image.data(), int(image.image.size()), &width, &height, &channels) == 1) {
+        if (const std::string shortfall = memory_shortfall(2.0 * double(width) * double(height), rgba); !shortfall.empty()) {
+          image_problem_[i] = "image '" + name + "' (" + std::to_string(width) + "x" + std::to_string(height) + ") " + shortfall;
+          return;
+        }
+      }
       stbi_uc* texels = stbi_load_from_memory(image.image.data(), int(image.image.size()), &width, &height, &channels, rgba);
       if (texels == nullptr) {
         image_problem_[i] = "image '" + name + "' could not be decoded (" +

@@ -121,6 +121,27 @@ inline void validate_mesh(Mesh& mesh, std::vector<std::string>* warnings = nullp
                                                                 (dropped == 1 ? "" : "s")));
 }
 
+/// Largest world-space coordinate magnitude igi traces: 1e12 keeps every product of three
+/// coordinate differences (ray-triangle determinants, a cross product dotted with an edge: up to
+/// 3 (2e12)^3 ~ 2.4e37) below float's 3.4e38, so hit distances, squared VPL distances and normals
+/// stay finite. Real scenes are many orders of magnitude smaller.
+inline constexpr float max_scene_coordinate = 1e12f;
+
+/// Throws SceneError naming the instance, mesh and vertex if a world-space vertex lies beyond +-max_scene_coordinate; instances with a bad mesh index are left to the other checks.
+inline void check_scene_extent(const Scene& scene, std::string_view where = {}) {
+  for (const Instance& instance : scene.instances) {
+    if (instance.mesh < 0 || std::size_t(instance.mesh) >= scene.meshes.size()) continue;
+    const Mesh& mesh = scene.meshes[std::size_t(instance.mesh)];
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+      const glm::vec3 world(instance.transform * glm::vec4(mesh.positions[v], 1.0f));
+      if (!glm::all(glm::lessThanEqual(glm::abs(world), glm::vec3(max_scene_coordinate))))
+        throw SceneError(detail::located(where, "instance '" + instance.name + "' places mesh '" + mesh.name + "' vertex " +
+                                                    std::to_string(v) + " at " + detail::to_text(world) +
+                                                    ", beyond +-1e12, the largest coordinate igi traces"));
+    }
+  }
+}
+
 /// Checks a whole scene (meshes, references between its parts, finite transforms, lights and cameras) and drops zero-area triangles with a warning.
 inline void validate_scene(Scene& scene, std::vector<std::string>* warnings = nullptr, std::string_view where = {}) {
   const std::string default_where = "scene '" + scene.name + "'";
@@ -138,6 +159,7 @@ inline void validate_scene(Scene& scene, std::vector<std::string>* warnings = nu
     if (!detail::finite(instance.transform))
       throw SceneError(detail::located(where, "instance '" + instance.name + "' has a non-finite transform"));
   }
+  check_scene_extent(scene, where);
   for (const Material& material : scene.materials) {
     for (const int texture : {material.base_color_texture, material.emissive_texture})
       if (texture < -1 || texture >= int(scene.textures.size()))

@@ -1,0 +1,211 @@
+// Bad numbers through the whole path (scene -> backend -> IGI frame): each gives a clear error
+// naming the problem or a documented clamp, never NaN pixels, a crash or a hang. Every case runs
+// through each backend. Covered elsewhere and not repeated here: validate_scene and the glTF
+// loader on NaN/Inf positions (tests/scene/validate_test.cpp, gltf_malformed_test.cpp), zero-area
+// triangles dropped by validation (validate_test.cpp), PinholeProjection's own checks
+// (tests/scene/camera_test.cpp), LightSet on a negative intensity (tests/lighting/lights_test.cpp).
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <catch2/catch.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "igi/backends/saarcor/saarcor_backend.hpp"
+#include "igi/scene/validate.hpp"
+#include "render/render_support.hpp"
+
+namespace {
+
+using namespace igi;
+using Catch::Contains;
+
+constexpr float not_a_number = std::numeric_limits<float>::quiet_NaN();
+constexpr float infinity = std::numeric_limits<float>::infinity();
+
+/// Small frames: enough pixels to see every wall of the Cornell box, few VPLs to stay quick under the sanitizers.
+RenderSettings small_settings() {
+  RenderSettings settings;
+  settings.width = 24;
+  settings.height = 24;
+  settings.vpls_per_pixel = 2;
+  settings.tile_size = 8;
+  return settings;
+}
+
+/// The message of the exception one frame of `scene` throws through backend B; fails if it throws none.
+template <class B>
+std::string render_error(Scene scene, const RenderSettings& settings = small_settings()) {
+  try {
+    testing::render_once<B>(scene, settings);
+  } catch (const std::exception& error) {
+    return error.what();
+  }
+  FAIL("no error from " << B::name());
+  return {};
+}
+
+/// Runs `check.template operator()<B>()` for each backend: Embree W=16, Reference W=8, SaarCOR.
+template <class Check>
+void for_each_backend(const Check& check) {
+  check.template operator()<EmbreeBackend<16>>();
+  check.template operator()<ReferenceBackend<8>>();
+  check.template operator()<SaarcorBackend>();
+}
+
+/// Index of the Cornell box's mesh named `name`.
+int mesh_named(const Scene& scene, const std::string& name) {
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+    if (scene.meshes[m].name == name) return int(m);
+  FAIL("no mesh " << name);
+  return -1;
+}
+
+}  // namespace
+
+TEST_CASE("bad numbers: NaN and infinite vertex positions reaching a backend are errors naming the mesh", "[robustness]") {
+  for (const float bad : {not_a_number, infinity, -infinity}) {
+    Scene scene = cornell_box();
+    scene.meshes[0].positions[1].y = bad;
+    for_each_backend([&]<class B>() {
+      INFO(B::name() << " with " << bad);
+      CHECK_THAT(render_error<B>(scene), Contains("non-finite vertex position") && Contains(scene.meshes[0].name));
+    });
+  }
+}
+
+/// The Cornell box plus a triangle `far` with corners at +-`reach` (placed by a unit instance, or by `scale`).
+Scene cornell_with_far_triangle(float reach, float scale = 1.0f) {
+  Scene scene = cornell_box();
+  Mesh far;
+  far.name = "far";
+  far.positions = {{reach, 0, 0}, {reach, reach, 0}, {-reach, 0, reach}};
+  far.triangles = {{0, 1, 2}};
+  far.material = 0;
+  scene.meshes.push_back(far);
+  scene.instances.push_back({.name = "far away", .mesh = int(scene.meshes.size()) - 1,
+                             .transform = glm::scale(glm::mat4(1.0f), glm::vec3(scale))});
+  return scene;
+}
+
+TEST_CASE("bad numbers: vertices at 1e30, in object or world space, are errors naming the instance and mesh", "[robustness]") {
+  // Before this check Debian's Embree (built with assertions) aborted the process on the shadow
+  // rays to VPLs on such a triangle: their squared length overflows float.
+  for (const Scene& scene : {cornell_with_far_triangle(1e30f), cornell_with_far_triangle(1.0f, 1e30f)}) {
+    Scene loaded = scene;
+    CHECK_THROWS_WITH(validate_scene(loaded), Contains("instance 'far away' places mesh 'far' vertex 0") &&
+                                                  Contains("beyond +-1e12"));
+    for_each_backend([&]<class B>() {
+      INFO(B::name());
+      CHECK_THAT(render_error<B>(scene), Contains("'far'") && Contains("beyond +-1e12"));
+    });
+  }
+}
+
+TEST_CASE("bad numbers: a triangle at 0.9e12, just inside the limit, renders finite pixels", "[robustness]") {
+  Scene scene = cornell_with_far_triangle(0.9f * max_scene_coordinate);
+  validate_scene(scene);
+  for_each_backend([&]<class B>() {
+    INFO(B::name());
+    const Frame frame = testing::render_once<B>(scene, small_settings());
+    CHECK(testing::all_finite(frame));
+    CHECK(testing::mean_radiance(frame) > 0.0);  // the box is still lit
+  });
+}
+
+TEST_CASE("bad numbers: a scene of 1e30 extent has no default camera, with an error naming the bounds", "[robustness]") {
+  Scene scene = cornell_box();
+  for (Mesh& mesh : scene.meshes)
+    for (glm::vec3& position : mesh.positions) position *= 1e30f;  // extent ~1e30: its length overflows float
+  scene.cameras.clear();
+  CHECK_THROWS_WITH(default_camera(scene), Contains("non-finite bounds"));
+}
+
+TEST_CASE("bad numbers: zero-length vertex normals fall back to the face normal; pixels stay finite", "[robustness]") {
+  Scene scene = cornell_box();
+  Scene reference = scene;
+  for (Mesh& mesh : scene.meshes) mesh.normals.assign(mesh.positions.size(), glm::vec3(0.0f));
+  for (Mesh& mesh : reference.meshes) mesh.normals.clear();  // no normals: the face normal by definition
+  for_each_backend([&]<class B>() {
+    INFO(B::name());
+    const Frame frame = testing::render_once<B>(scene, small_settings());
+    CHECK(testing::all_finite(frame));
+    // The Cornell box is flat-shaded: zero normals must give exactly the image without normals.
+    CHECK(testing::rmse(frame, testing::render_once<B>(reference, small_settings())) == 0.0);
+  });
+}
+
+TEST_CASE("bad numbers: zero-area and sliver triangles that skip validation render finite pixels", "[robustness]") {
+  Scene scene = cornell_box();
+  Mesh& floor = scene.meshes[std::size_t(mesh_named(scene, "floor"))];
+  const auto base = std::uint32_t(floor.positions.size());
+  const glm::vec3 corner = floor.positions[0];
+  const glm::vec3 along = floor.positions[1] - corner;
+  // Above the floor, in view: a repeated vertex, three collinear vertices, a 1e-7-thin sliver.
+  const glm::vec3 lift(0.0f, 0.05f, 0.0f);
+  floor.positions.insert(floor.positions.end(), {corner + lift, corner + lift + 0.5f * along, corner + lift + along,
+                                                 corner + lift + 0.5f * along + glm::vec3(0.0f, 1e-7f, 0.0f)});
+  if (!floor.normals.empty()) floor.normals.resize(floor.positions.size(), glm::vec3(0.0f, 1.0f, 0.0f));
+  floor.triangles.insert(floor.triangles.end(), {{base, base, base + 2}, {base, base + 1, base + 2}, {base, base + 2, base + 3}});
+  for_each_backend([&]<class B>() {
+    INFO(B::name());
+    CHECK(testing::all_finite(testing::render_once<B>(scene, small_settings())));
+  });
+}
+
+TEST_CASE("bad numbers: negative, NaN or infinite light intensities and colours are errors naming the light", "[robustness]") {
+  for (const float bad : {-1.0f, not_a_number, infinity}) {
+    Scene scene = cornell_box();
+    scene.lights.push_back({.name = "lamp", .kind = PunctualKind::point, .intensity = bad, .position = glm::vec3(0.3f)});
+    Scene colour = cornell_box();
+    colour.lights.push_back({.name = "tinted", .kind = PunctualKind::point, .color = glm::vec3(1.0f, bad, 1.0f),
+                             .position = glm::vec3(0.3f)});
+    Scene emission = cornell_box();
+    emission.materials.back().emission.g = bad;
+    for_each_backend([&]<class B>() {
+      INFO(B::name() << " with " << bad);
+      CHECK_THAT(render_error<B>(scene), Contains("lamp"));
+      CHECK_THAT(render_error<B>(colour), Contains("tinted"));
+      CHECK_THAT(render_error<B>(emission), Contains("emission"));
+    });
+  }
+}
+
+TEST_CASE("bad numbers: zero, negative, NaN or straight-angle camera fov is an error naming yfov", "[robustness]") {
+  for (const float bad : {0.0f, -0.5f, not_a_number, infinity, glm::pi<float>()}) {
+    Scene scene = cornell_box();
+    scene.cameras.front().yfov = bad;
+    for_each_backend([&]<class B>() {
+      INFO(B::name() << " with yfov " << bad);
+      CHECK_THAT(render_error<B>(scene), Contains("yfov"));
+    });
+  }
+}
+
+TEST_CASE("bad numbers: resolution 0, negative or 100000 is a settings error naming the size", "[robustness]") {
+  for (const auto& [width, height] : {std::pair{0, 24}, std::pair{24, 0}, std::pair{-3, 24}, std::pair{100000, 24},
+                                      std::pair{24, 100000}, std::pair{100000, 100000}}) {
+    RenderSettings settings = small_settings();
+    settings.width = width;
+    settings.height = height;
+    INFO(width << "x" << height);
+    Scene scene = cornell_box();
+    CHECK_THROWS_AS(testing::render_once<EmbreeBackend<16>>(scene, settings), SettingsError);
+    CHECK_THAT(render_error<ReferenceBackend<8>>(cornell_box(), settings),
+               Contains(std::to_string(width) + "x" + std::to_string(height)));
+  }
+}
+
+TEST_CASE("bad numbers: 0 VPLs and interleave 0 are settings errors naming the setting", "[robustness]") {
+  RenderSettings no_vpls = small_settings();
+  no_vpls.vpls_per_pixel = 0;
+  RenderSettings no_pattern = small_settings();
+  no_pattern.interleave = 0;
+  for_each_backend([&]<class B>() {
+    INFO(B::name());
+    CHECK_THAT(render_error<B>(cornell_box(), no_vpls), Contains("vpls 0"));
+    CHECK_THAT(render_error<B>(cornell_box(), no_pattern), Contains("interleave 0"));
+  });
+}
