@@ -188,6 +188,23 @@ def width_table(r):
                   "same by CPU time"], rows)
 
 
+def shading_table(r):
+    """Packet against single-ray shading (shading_bench): Msamples per CPU second and speed-up over W = 1."""
+    widths = [("embree", 1), ("embree", 4), ("embree", 8), ("embree", 16), ("saarcor", 64)]
+    rows = []
+    for scene in SCENES:
+        for mode, label in (("shadow", "with shadow rays"), ("no_shadow", "shading only")):
+            rates = {w: get(r, f"shading/{scene}/{backend}/{w}/{mode}", "items_per_second") for backend, w in widths}
+            if all(v is None for v in rates.values()):
+                continue
+            base = rates[1]
+            cells = [f"{v / 1e6:.1f} ({v / base:.2f}×)" if v and base else fmt(v) for v in rates.values()]
+            rows.append([f"{scene}, {label}"] + cells)
+    if not rows:
+        return None
+    return table(["Msamples/s per CPU (speed-up over W=1)", "W=1", "W=4", "W=8", "W=16", "SaarCOR 64"], rows)
+
+
 def size_rows(r):
     rows = []
     for name in r:
@@ -344,6 +361,7 @@ def main(argv):
         "threads": threads_table(r),
         "width": width_table(r),
         "size": size_table(r),
+        "shading": shading_table(r),
     }
     for name, body in blocks.items():
         if body is not None:
