@@ -116,12 +116,7 @@ class TileFarm {
     report_.index = index;
     report_.hdr_sent = header.send_hdr;
     report_.tiles_per_rank.assign(std::size_t(size_), 0);
-    Frame frame;
-    frame.width = s.width;
-    frame.height = s.height;
-    frame.index = index;
-    frame.hdr = Image(s.width, s.height);
-    frame.rgb8 = Rgb8Image(s.width, s.height);
+    Frame frame = Frame::blank(s.width, s.height, index);
     tile_luminance_.assign(tiles.size(), LuminanceStatistics{});
     tile_rays_.assign(tiles.size(), RayCounts{});
 
@@ -140,10 +135,7 @@ class TileFarm {
       report_.rays.merge(tile_rays_[t]);
     }
     const ToneMapping next = ToneMapping::from(report_.luminance);
-    if (!tone_mapping_) {
-      for (int y = 0; y < frame.height; ++y)
-        for (int x = 0; x < frame.width; ++x) store_pixel(frame.rgb8, x, y, quantize_srgb(next.apply(frame.hdr(x, y))));
-    }
+    if (!tone_mapping_) frame.tone_map(next);
     tone_mapping_ = next;
     frame.statistics.rays = report_.rays;
     frame.statistics.tiles = int(tiles.size());

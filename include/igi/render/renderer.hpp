@@ -46,6 +46,20 @@ struct Frame {
   Image hdr;                        ///< Linear radiance.
   Rgb8Image rgb8;                   ///< Tone-mapped sRGB.
   FrameStatistics statistics;       ///< What it cost.
+
+  /// A black `width x height` frame for index `index`, its images allocated.
+  static Frame blank(int width, int height, std::uint32_t index) {
+    Frame frame;
+    frame.width = width;
+    frame.height = height;
+    frame.index = index;
+    frame.hdr = Image(width, height);
+    frame.rgb8 = Rgb8Image(width, height);
+    return frame;
+  }
+  /// Tone maps the whole HDR image into `rgb8` with `mapping` (the first frame, which has no
+  /// previous frame's statistics, is mapped with its own).
+  void tone_map(const ToneMapping& mapping);
 };
 
 /// Writes one 8-bit pixel.
@@ -54,6 +68,11 @@ inline void store_pixel(Rgb8Image& image, int x, int y, const glm::u8vec3& rgb) 
   p[0] = rgb.r;
   p[1] = rgb.g;
   p[2] = rgb.b;
+}
+
+inline void Frame::tone_map(const ToneMapping& mapping) {
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) store_pixel(rgb8, x, y, quantize_srgb(mapping.apply(hdr(x, y))));
 }
 
 /// Copies a finished tile's pixels into its place in the frame.
@@ -96,12 +115,7 @@ class Renderer {
       backend_->commit();
       dirty_ = false;
     }
-    Frame frame;
-    frame.width = settings_.width;
-    frame.height = settings_.height;
-    frame.index = index;
-    frame.hdr = Image(frame.width, frame.height);
-    frame.rgb8 = Rgb8Image(frame.width, frame.height);
+    Frame frame = Frame::blank(settings_.width, settings_.height, index);
 
     FrameState state;
     state.prepare(*scene_, *backend_, *sampler_, settings_, camera, index, tone_mapping_ ? *tone_mapping_ : ToneMapping{});
@@ -130,10 +144,7 @@ class Renderer {
           tbb::simple_partitioner());
     });
     const ToneMapping next = ToneMapping::from(stats.luminance);
-    if (!tone_mapping_) {
-      for (int y = 0; y < frame.height; ++y)
-        for (int x = 0; x < frame.width; ++x) store_pixel(frame.rgb8, x, y, quantize_srgb(next.apply(frame.hdr(x, y))));
-    }
+    if (!tone_mapping_) frame.tone_map(next);
     tone_mapping_ = next;
     stats.tiles = int(tiles.size());
     stats.vpls = state.vpl_count();
