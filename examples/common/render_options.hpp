@@ -50,7 +50,7 @@ inline void add_render_options(CLI::App& app, RenderOptions& o, const std::strin
   app.add_option("--builtin", o.builtin, "built-in scene instead of a file")->check(CLI::IsMember({"cornell"}));
   app.add_option("-o,--output", o.output, "output image: .png (tone mapped), .exr or .pfm (HDR)")->capture_default_str();
   app.add_option("--size", o.size, "image size WIDTHxHEIGHT")->capture_default_str();
-  app.add_option("--vpls", o.settings.vpls_per_pixel, "VPLs per pixel (M, the size of one interleaving set)")->capture_default_str();
+  app.add_option("--vpls", o.settings.vpls_per_pixel, "VPLs per pixel (M, the target size of one interleaving set; a set holds at least one whole light path, so small M round up: about 2-3 VPLs in a closed room)")->capture_default_str();
   app.add_option("--interleave", o.settings.interleave, "interleaving pattern size S (S x S VPL sets)")->capture_default_str();
   app.add_option("--aa", o.settings.antialiasing, "primary rays per pixel N (interleaved super-sampling)")->capture_default_str();
   app.add_option("--filter", o.filter, "irradiance filter")->check(CLI::IsMember({"discontinuity", "box", "none"}))->capture_default_str();

@@ -209,3 +209,35 @@ TEST_CASE("bad numbers: 0 VPLs and interleave 0 are settings errors naming the s
     CHECK_THAT(render_error<B>(cornell_box(), no_pattern), Contains("interleave 0"));
   });
 }
+
+TEST_CASE("bad numbers: runtime updates placing a vertex beyond 1e12 are refused and change nothing", "[robustness]") {
+  // validate_scene holds the limit at load time; a moved instance or deformed mesh must hold it too,
+  // or the next frame's shadow rays overflow as in the 1e30 case above.
+  Scene scene = cornell_box();
+  validate_scene(scene);
+  const int box = mesh_named(scene, scene.meshes[0].name);
+  const glm::mat4 too_far = glm::scale(glm::mat4(1.0f), glm::vec3(1e13f));  // box corners at ~1e13
+  std::vector<glm::vec3> stretched = scene.meshes[std::size_t(box)].positions;
+  stretched[0] *= 2e12f;
+  const RenderSettings settings = small_settings();
+  const Camera camera = scene.cameras.front();
+  for_each_backend([&]<class B>() {
+    INFO(B::name());
+    Scene copy = scene;
+    const GltfMaterialShader surface(copy);
+    const StandardBrdf brdf;
+    const QmcVplSampler sampler;
+    const DiscontinuityFilter filter;
+    Renderer<B, GltfMaterialShader, StandardBrdf, QmcVplSampler, DiscontinuityFilter> renderer(copy, settings, surface,
+                                                                                             brdf, sampler, filter);
+    const Frame before = renderer.render(camera, 0);
+    CHECK_THROWS_WITH(renderer.set_instance_transform(0, too_far),
+                      Contains("instance '" + scene.instances[0].name + "'") && Contains("beyond +-1e12"));
+    CHECK_THROWS_WITH(renderer.set_mesh_positions(box, stretched),
+                      Contains("mesh '" + scene.meshes[std::size_t(box)].name + "' vertex 0") && Contains("beyond +-1e12"));
+    CHECK(renderer.scene().instances[0].transform == scene.instances[0].transform);
+    CHECK(renderer.scene().meshes[std::size_t(box)].positions == scene.meshes[std::size_t(box)].positions);
+    const Frame after = renderer.render(camera, 0);
+    CHECK(after.hdr.pixels == before.hdr.pixels);  // the refused updates reached neither the scene nor the backend
+  });
+}

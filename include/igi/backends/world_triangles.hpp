@@ -11,6 +11,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -81,6 +82,15 @@ inline void check_positions(const Mesh& mesh, std::span<const glm::vec3> positio
                                   mesh.name + "'");
 }
 
+/// Throws std::invalid_argument naming `backend` if `transform` places a vertex of `positions`
+/// beyond +-max_scene_coordinate: the limit validate_scene sets, kept by every runtime update.
+inline void check_extent(const glm::mat4& transform, std::span<const glm::vec3> positions, std::string_view instance,
+                         std::string_view mesh, const char* backend) {
+  if (const auto vertex = first_vertex_beyond_limit(transform, positions))
+    throw std::invalid_argument(std::string(backend) + ": " +
+                                beyond_limit_message(transform, positions, *vertex, instance, mesh));
+}
+
 /// One triangle in world space with the ids a hit reports.
 struct WorldTriangle {
   glm::vec3 v0, v1, v2;        ///< World-space vertices.
@@ -135,13 +145,18 @@ class FlattenedGeometry {
   void set_instance_transform(int index, const glm::mat4& transform) {
     check_index(index, geometry_.instances.size(), backend_, "instance");
     check_transform(transform, backend_);
-    geometry_.instances[std::size_t(index)].transform = transform;
+    Instance& instance = geometry_.instances[std::size_t(index)];
+    const Mesh& mesh = geometry_.meshes[std::size_t(instance.mesh)];
+    check_extent(transform, mesh.positions, instance.name, mesh.name, backend_);
+    instance.transform = transform;
   }
   /// Replaces the vertex positions of mesh `index` (same count).
   void set_mesh_positions(int index, std::span<const glm::vec3> positions) {
     check_index(index, geometry_.meshes.size(), backend_, "mesh");
     Mesh& mesh = geometry_.meshes[std::size_t(index)];
     check_positions(mesh, positions, backend_);
+    for (const Instance& instance : geometry_.instances)
+      if (instance.mesh == index) check_extent(instance.transform, positions, instance.name, mesh.name, backend_);
     mesh.positions.assign(positions.begin(), positions.end());
   }
   /// The current triangles in world space.

@@ -48,8 +48,8 @@ class TileRenderer {
     for (const auto& [index, light] : changes.lights) scene_->lights[std::size_t(index)] = light;
     for (const auto& [index, transform] : changes.instances) {
       if (scene_->instances[std::size_t(index)].transform == transform) continue;
+      backend_->set_instance_transform(index, transform);  // first: it checks, and the scene stays as it was if it throws
       scene_->instances[std::size_t(index)].transform = transform;
-      backend_->set_instance_transform(index, transform);
       dirty_ = true;
     }
   }

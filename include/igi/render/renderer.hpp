@@ -156,8 +156,9 @@ class Renderer {
 
   /// Moves instance `instance` (takes effect at the next frame).
   void set_instance_transform(int instance, const glm::mat4& transform) {
-    scene_->instances.at(std::size_t(instance)).transform = transform;
-    backend_->set_instance_transform(instance, transform);
+    Instance& entry = scene_->instances.at(std::size_t(instance));
+    backend_->set_instance_transform(instance, transform);  // first: it checks, and the scene stays as it was if it throws
+    entry.transform = transform;
     dirty_ = true;
   }
   /// Replaces the vertex positions of mesh `mesh` (same count; takes effect at the next frame).
@@ -166,8 +167,8 @@ class Renderer {
     if (positions.size() != m.positions.size())
       throw SettingsError("mesh " + std::to_string(mesh) + " has " + std::to_string(m.positions.size()) +
                           " vertices, not " + std::to_string(positions.size()));
+    backend_->set_mesh_positions(mesh, positions);  // first: it checks, and the scene stays as it was if it throws
     m.positions.assign(positions.begin(), positions.end());
-    backend_->set_mesh_positions(mesh, positions);
     dirty_ = true;
   }
   /// Replaces punctual light `light` (lights are read afresh every frame).

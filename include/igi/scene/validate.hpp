@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstddef>
 #include <iostream>
+#include <optional>
+#include <span>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -127,18 +129,32 @@ inline void validate_mesh(Mesh& mesh, std::vector<std::string>* warnings = nullp
 /// stay finite. Real scenes are many orders of magnitude smaller.
 inline constexpr float max_scene_coordinate = 1e12f;
 
+/// The first vertex of `positions` that `transform` places beyond +-max_scene_coordinate, if any.
+inline std::optional<std::size_t> first_vertex_beyond_limit(const glm::mat4& transform,
+                                                            std::span<const glm::vec3> positions) noexcept {
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    const glm::vec3 world(transform * glm::vec4(positions[v], 1.0f));
+    if (!glm::all(glm::lessThanEqual(glm::abs(world), glm::vec3(max_scene_coordinate)))) return v;
+  }
+  return std::nullopt;
+}
+
+/// "instance 'I' places mesh 'M' vertex V at (x, y, z), beyond +-1e12, ...": the message of a vertex out of range.
+inline std::string beyond_limit_message(const glm::mat4& transform, std::span<const glm::vec3> positions,
+                                        std::size_t vertex, std::string_view instance, std::string_view mesh) {
+  const glm::vec3 world(transform * glm::vec4(positions[vertex], 1.0f));
+  return "instance '" + std::string(instance) + "' places mesh '" + std::string(mesh) + "' vertex " +
+         std::to_string(vertex) + " at " + detail::to_text(world) + ", beyond +-1e12, the largest coordinate igi traces";
+}
+
 /// Throws SceneError naming the instance, mesh and vertex if a world-space vertex lies beyond +-max_scene_coordinate; instances with a bad mesh index are left to the other checks.
 inline void check_scene_extent(const Scene& scene, std::string_view where = {}) {
   for (const Instance& instance : scene.instances) {
     if (instance.mesh < 0 || std::size_t(instance.mesh) >= scene.meshes.size()) continue;
     const Mesh& mesh = scene.meshes[std::size_t(instance.mesh)];
-    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-      const glm::vec3 world(instance.transform * glm::vec4(mesh.positions[v], 1.0f));
-      if (!glm::all(glm::lessThanEqual(glm::abs(world), glm::vec3(max_scene_coordinate))))
-        throw SceneError(detail::located(where, "instance '" + instance.name + "' places mesh '" + mesh.name + "' vertex " +
-                                                    std::to_string(v) + " at " + detail::to_text(world) +
-                                                    ", beyond +-1e12, the largest coordinate igi traces"));
-    }
+    if (const auto vertex = first_vertex_beyond_limit(instance.transform, mesh.positions))
+      throw SceneError(
+          detail::located(where, beyond_limit_message(instance.transform, mesh.positions, *vertex, instance.name, mesh.name)));
   }
 }
 

@@ -16,6 +16,17 @@
 #include <array>
 #include <cstdint>
 #include <experimental/simd>
+
+// libstdc++'s <experimental/simd> uses AVX-512 mask registers (the bitmask ABIs) whenever AVX-512
+// is on, and clang compiles their masked assignment wrongly: with clang 14 and libstdc++ 12,
+// `where(mask, v) = x` leaves v unchanged on every lane, so packets would silently ignore their
+// masks. Newer pairs fail to compile instead (vir-simd pins its clang CI below AVX-512 for this).
+// Below AVX-512 clang 14 compiles correct code, but erratically: on tests/simd/lanes_test.cpp its
+// template instantiation of this header sometimes crashes, sometimes runs for many minutes, and
+// sometimes finishes in seconds, with the same flags. igi's builds and sanitizer suite use GCC.
+#if defined(__clang__) && defined(__AVX512F__)
+#error "igi: libstdc++'s <experimental/simd> miscompiles masked assignment under clang with AVX-512 enabled; build igi with GCC, or with clang for AVX2 (-march=x86-64-v3 or IGI_ISA=avx2)"
+#endif
 #include <limits>
 #include <type_traits>
 

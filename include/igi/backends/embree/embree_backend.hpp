@@ -237,6 +237,10 @@ class EmbreeBackend {
   void set_instance_transform(int index, const glm::mat4& transform) {
     check_index(index, state_->instances.size(), "igi::EmbreeBackend", "instance");
     check_transform(transform, "igi::EmbreeBackend");
+    const InstanceEntry& instance = state_->instances[std::size_t(index)];
+    const MeshEntry& mesh = state_->meshes[instance.mesh];
+    check_extent(transform, std::span(mesh.positions).first(mesh.vertex_count), instance.name, mesh.name,
+                 "igi::EmbreeBackend");
     state_->pending_transforms.emplace_back(index, transform);
     state_->top_dirty = true;
   }
@@ -253,6 +257,9 @@ class EmbreeBackend {
     probe.name = mesh.name;
     probe.positions.resize(mesh.vertex_count);
     check_positions(probe, positions, "igi::EmbreeBackend");
+    for (std::size_t i = 0; i < state_->instances.size(); ++i)
+      if (state_->instances[i].mesh == std::size_t(index))
+        check_extent(latest_transform(i), positions, state_->instances[i].name, mesh.name, "igi::EmbreeBackend");
     std::copy(positions.begin(), positions.end(), mesh.positions.begin());
     mesh.changed = true;
     state_->top_dirty = true;
@@ -445,6 +452,13 @@ class EmbreeBackend {
     check("flattened instance " + std::to_string(index) + " ('" + instance.name + "')");
     instance.flattened = geometry;
     state_->flat_dirty = true;
+  }
+
+  /// Instance `index`'s transform as of the next commit(): its last pending one, else its current one.
+  const glm::mat4& latest_transform(std::size_t index) const noexcept {
+    for (auto pending = state_->pending_transforms.rbegin(); pending != state_->pending_transforms.rend(); ++pending)
+      if (std::size_t(pending->first) == index) return pending->second;
+    return state_->instances[index].transform;
   }
 
   /// Removes instance `index`'s triangles (if any) from the flattened scene and traces it as an Embree instance.
