@@ -96,7 +96,8 @@ class ByteReader {
       throw DistributedError(what_ + ": array of " + std::to_string(count) + " elements runs past the end of the " +
                              std::to_string(bytes_->size()) + "-byte message");
     std::vector<T> values(static_cast<std::size_t>(count));
-    std::memcpy(values.data(), bytes_->data() + offset_, std::size_t(count) * sizeof(T));
+    // An empty vector's data() may be null, and memcpy from or to null is undefined even for 0 bytes (UBSan).
+    if (count > 0) std::memcpy(values.data(), bytes_->data() + offset_, std::size_t(count) * sizeof(T));
     offset_ += std::size_t(count) * sizeof(T);
     return values;
   }
