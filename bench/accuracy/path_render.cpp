@@ -6,7 +6,7 @@
 #include <iostream>
 #include <string>
 
-#include <CLI/CLI.hpp>
+#include "common/command_line.hpp"
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/io/image.hpp"
@@ -18,24 +18,22 @@
 #include "igi/shading/gltf_material_shader.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"igi-path-render: igi's reference path tracer into an HDR image"};
+  igi::programs::CommandLine command_line{"igi-path-render: igi's reference path tracer into an HDR image"};
   std::string scene_path, builtin, output, size = "256x256";
   int spp = 64, threads = 0;
   std::uint32_t seed = 0;
   bool centre = false;
-  app.add_option("SCENE", scene_path, "glTF scene");
-  app.add_option("--builtin", builtin, "Built-in scene instead of a file")->check(CLI::IsMember({"cornell"}));
-  app.add_option("-o,--output", output, "Output image (.exr, .pfm or .png)")->required();
-  app.add_option("--size", size, "Image size WxH");
-  app.add_option("--spp", spp, "Samples per pixel")->check(CLI::Range(1, 1 << 20));
-  app.add_option("--seed", seed, "Random seed");
-  app.add_option("--threads", threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
-  app.add_flag("--pixel-centre", centre, "Sample pixel centres only (as IGI without anti-aliasing)");
+  command_line.add("SCENE", scene_path, "glTF scene");
+  command_line.add("--builtin", builtin, "Built-in scene instead of a file").choices({"cornell"});
+  command_line.add("-o,--output", output, "Output image (.exr, .pfm or .png)").required();
+  command_line.add("--size", size, "Image size WxH");
+  command_line.add("--spp", spp, "Samples per pixel").range(1, 1 << 20);
+  command_line.add("--seed", seed, "Random seed");
+  command_line.add("--threads", threads, "Worker threads (0: all cores)").range(0, 1024);
+  command_line.flag("--pixel-centre", centre, "Sample pixel centres only (as IGI without anti-aliasing)");
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& help) {
-    return app.exit(help);
-  } catch (const CLI::ParseError& error) {
+    if (!command_line.parse(argc, argv)) return 0;
+  } catch (const igi::programs::UsageError& error) {
     std::cerr << "igi-path-render: " << error.what() << "\n";
     return 2;
   }

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
+#include "common/command_line.hpp"
 #include <nlohmann/json.hpp>
 #include <oneapi/tbb/info.h>
 
@@ -127,24 +127,22 @@ int main(int argc, char** argv) {
   igi::MpiSession mpi(argc, argv);
   const int rank = mpi.rank();
   Options options;
-  CLI::App app{"igi-cluster: igi-render's IGI pipeline as the paper's tile farm on MPI (mpirun -np N igi-cluster ...)"};
-  add_render_options(app, options, "threads per rank (0: all cores)", "frames to render (indices 0..F-1)");
-  app.add_option("--animate", options.animate, "dynamic scene: a deterministic function of the frame index")->check(CLI::IsMember({"none", "light", "camera", "object"}))->capture_default_str();
-  app.add_flag("--every-frame", options.every_frame, "also write every frame as <stem>_NNNN<ext>");
-  app.add_option("--tile", options.settings.tile_size, "tile edge in pixels")->check(CLI::Range(4, 1024))->capture_default_str();
-  app.add_option("--tiles-per-request", options.farm.tiles_per_request, "tiles a worker asks for at once (0: its thread count)")->check(CLI::Range(0, 1 << 20))->capture_default_str();
-  app.add_flag("--prefetch", options.farm.prefetch, "workers ask for the next tiles when they start a batch (hides the round trip)");
-  app.add_option("--slow-rank", options.farm.slow_rank, "test hook: slow this rank down artificially")->capture_default_str();
-  app.add_option("--slow-factor", options.farm.slow_factor, "the slowed rank sleeps (factor-1) x each tile's render time")->check(CLI::Range(1.0, 1000.0))->capture_default_str();
+  CommandLine command_line{"igi-cluster: igi-render's IGI pipeline as the paper's tile farm on MPI (mpirun -np N igi-cluster ...)"};
+  add_render_options(command_line, options, "threads per rank (0: all cores)", "frames to render (indices 0..F-1)");
+  command_line.add("--animate", options.animate, "dynamic scene: a deterministic function of the frame index").choices({"none", "light", "camera", "object"}).show_default();
+  command_line.flag("--every-frame", options.every_frame, "also write every frame as <stem>_NNNN<ext>");
+  command_line.add("--tile", options.settings.tile_size, "tile edge in pixels").range(4, 1024).show_default();
+  command_line.add("--tiles-per-request", options.farm.tiles_per_request, "tiles a worker asks for at once (0: its thread count)").range(0, 1 << 20).show_default();
+  command_line.flag("--prefetch", options.farm.prefetch, "workers ask for the next tiles when they start a batch (hides the round trip)");
+  command_line.add("--slow-rank", options.farm.slow_rank, "test hook: slow this rank down artificially").show_default();
+  command_line.add("--slow-factor", options.farm.slow_factor, "the slowed rank sleeps (factor-1) x each tile's render time").range(1.0, 1000.0).show_default();
   // Only rank 0 speaks: every rank parses the same command line and would print the same message.
   auto say = [rank](const std::string& text) {
     if (rank == 0) std::cerr << "igi-cluster: " << text << "\n";
   };
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return rank == 0 ? app.exit(e) : 0;
-  } catch (const CLI::ParseError& e) {
+    if (!command_line.parse(argc, argv, rank == 0)) return 0;
+  } catch (const UsageError& e) {
     say(e.what());
     return 2;
   }

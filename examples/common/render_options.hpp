@@ -1,6 +1,6 @@
 #pragma once
 // The command line igi-render and igi-cluster share: scene, camera, image, IGI settings and the
-// backend choice, parsed with CLI11, plus the scene loading and backend dispatch that follow it.
+// backend choice, parsed by CommandLine, plus the scene loading and backend dispatch that follow it.
 
 #include <algorithm>
 #include <cstdio>
@@ -8,8 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include <CLI/CLI.hpp>
-
+#include "common/command_line.hpp"
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/backends/reference/reference_backend.hpp"
 #include "igi/backends/saarcor/saarcor_backend.hpp"
@@ -20,11 +19,6 @@
 #include "igi/scene/gltf.hpp"
 
 namespace igi::programs {
-
-/// A usage error: exit code 2 with a one-line message.
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 /// What the shared options decide.
 struct RenderOptions {
@@ -43,30 +37,30 @@ struct RenderOptions {
   RenderSettings settings;              ///< The IGI settings.
 };
 
-/// Adds the shared options to `app`; `threads_help` and `frames_help` let a program word those two.
-inline void add_render_options(CLI::App& app, RenderOptions& o, const std::string& threads_help,
+/// Adds the shared options to `command_line`; `threads_help` and `frames_help` let a program word those two.
+inline void add_render_options(CommandLine& command_line, RenderOptions& o, const std::string& threads_help,
                                const std::string& frames_help) {
-  app.add_option("scene", o.scene_file, "glTF scene (.gltf or .glb)");
-  app.add_option("--builtin", o.builtin, "built-in scene instead of a file")->check(CLI::IsMember({"cornell"}));
-  app.add_option("-o,--output", o.output, "output image: .png (tone mapped), .exr or .pfm (HDR)")->capture_default_str();
-  app.add_option("--size", o.size, "image size WIDTHxHEIGHT")->capture_default_str();
-  app.add_option("--vpls", o.settings.vpls_per_pixel, "VPLs per pixel (M, the target size of one interleaving set; a set holds at least one whole light path, so small M round up: about 2-3 VPLs in a closed room)")->capture_default_str();
-  app.add_option("--interleave", o.settings.interleave, "interleaving pattern size S (S x S VPL sets)")->capture_default_str();
-  app.add_option("--aa", o.settings.antialiasing, "primary rays per pixel N (interleaved super-sampling)")->capture_default_str();
-  app.add_option("--filter", o.filter, "irradiance filter")->check(CLI::IsMember({"discontinuity", "box", "none"}))->capture_default_str();
-  app.add_option("--clamp", o.settings.clamp_distance, "minimum VPL distance in 1/d^2 (negative: 2% of the scene diagonal)")->capture_default_str();
-  app.add_option("--backend", o.backend, "ray-tracing backend")->check(CLI::IsMember({"embree", "saarcor", "reference"}))->capture_default_str();
-  app.add_option("--packet", o.packet, "packet width W")->check(CLI::IsMember({1, 4, 8, 16, 64}))->capture_default_str();
-  app.add_option("--threads", o.settings.threads, threads_help)->check(CLI::Range(0, 1024))->capture_default_str();
-  app.add_option("--frames", o.frames, frames_help)->check(CLI::Range(1, 100000))->capture_default_str();
-  app.add_option("--integrator", o.integrator, "igi, or path for the reference path tracer")->check(CLI::IsMember({"igi", "path"}))->capture_default_str();
-  app.add_option("--spp", o.spp, "samples per pixel of the path tracer")->check(CLI::Range(1, 1 << 20))->capture_default_str();
-  app.add_option("--camera", o.camera, "glTF camera name (default: the file's first, else a fitted view)");
-  app.add_option("--seed", o.settings.seed, "randomisation seed")->capture_default_str();
-  app.add_option("--stats", o.stats, "print statistics as one JSON object on stdout")->check(CLI::IsMember({"json"}));
+  command_line.add("scene", o.scene_file, "glTF scene (.gltf or .glb)");
+  command_line.add("--builtin", o.builtin, "built-in scene instead of a file").choices({"cornell"});
+  command_line.add("-o,--output", o.output, "output image: .png (tone mapped), .exr or .pfm (HDR)").show_default();
+  command_line.add("--size", o.size, "image size WIDTHxHEIGHT").show_default();
+  command_line.add("--vpls", o.settings.vpls_per_pixel, "VPLs per pixel (M, the target size of one interleaving set; a set holds at least one whole light path, so small M round up: about 2-3 VPLs in a closed room)").show_default();
+  command_line.add("--interleave", o.settings.interleave, "interleaving pattern size S (S x S VPL sets)").show_default();
+  command_line.add("--aa", o.settings.antialiasing, "primary rays per pixel N (interleaved super-sampling)").show_default();
+  command_line.add("--filter", o.filter, "irradiance filter").choices({"discontinuity", "box", "none"}).show_default();
+  command_line.add("--clamp", o.settings.clamp_distance, "minimum VPL distance in 1/d^2 (negative: 2% of the scene diagonal)").show_default();
+  command_line.add("--backend", o.backend, "ray-tracing backend").choices({"embree", "saarcor", "reference"}).show_default();
+  command_line.add("--packet", o.packet, "packet width W").choices({1, 4, 8, 16, 64}).show_default();
+  command_line.add("--threads", o.settings.threads, threads_help).range(0, 1024).show_default();
+  command_line.add("--frames", o.frames, frames_help).range(1, 100000).show_default();
+  command_line.add("--integrator", o.integrator, "igi, or path for the reference path tracer").choices({"igi", "path"}).show_default();
+  command_line.add("--spp", o.spp, "samples per pixel of the path tracer").range(1, 1 << 20).show_default();
+  command_line.add("--camera", o.camera, "glTF camera name (default: the file's first, else a fitted view)");
+  command_line.add("--seed", o.settings.seed, "randomisation seed").show_default();
+  command_line.add("--stats", o.stats, "print statistics as one JSON object on stdout").choices({"json"});
 }
 
-/// Checks what CLI11 cannot: the size, scene xor --builtin, the settings, the output format.
+/// Checks what the option checks cannot: the size, scene xor --builtin, the settings, the output format.
 inline void check_render_options(RenderOptions& o) {
   int width = 0, height = 0;
   char x = 0, rest = 0;

@@ -6,25 +6,23 @@
 #include <iostream>
 #include <string>
 
-#include <CLI/CLI.hpp>
+#include "common/command_line.hpp"
 #include <nlohmann/json.hpp>
 
 #include "igi/io/image.hpp"
 #include "igi/io/metrics.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"igi-compare: RMSE, relMSE and SSIM of TEST against the reference REF (PNG, EXR or PFM)"};
+  igi::programs::CommandLine command_line{"igi-compare: RMSE, relMSE and SSIM of TEST against the reference REF (PNG, EXR or PFM)"};
   std::string reference_path, test_path;
   bool json = false, ignore_brightest = false;
-  app.add_option("REF", reference_path, "Reference image")->required();
-  app.add_option("TEST", test_path, "Image to measure")->required();
-  app.add_flag("--json", json, "Print one JSON object instead of text");
-  app.add_flag("--ignore-brightest", ignore_brightest, "relMSE without the brightest 0.1% of reference pixels");
+  command_line.add("REF", reference_path, "Reference image").required();
+  command_line.add("TEST", test_path, "Image to measure").required();
+  command_line.flag("--json", json, "Print one JSON object instead of text");
+  command_line.flag("--ignore-brightest", ignore_brightest, "relMSE without the brightest 0.1% of reference pixels");
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& help) {
-    return app.exit(help);
-  } catch (const CLI::ParseError& error) {
+    if (!command_line.parse(argc, argv)) return 0;
+  } catch (const igi::programs::UsageError& error) {
     std::cerr << "igi-compare: " << error.what() << " (see --help)\n";
     return 2;
   }

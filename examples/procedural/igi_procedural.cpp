@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
+#include "common/command_line.hpp"
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/filters/tile_filters.hpp"
@@ -47,20 +47,18 @@ int main(int argc, char** argv) {
   std::string constant_output;
   int frames = 8;
   igi::RenderSettings settings;
-  CLI::App app{"igi-procedural: the paper's Figure 3, procedural shading in a globally illuminated room"};
-  app.add_option("--size", size, "image size WIDTHxHEIGHT")->capture_default_str();
-  app.add_option("--frames", frames, "frames per shading mode (the lamp moves every frame)")->check(CLI::Range(1, 100000))->capture_default_str();
-  app.add_option("-o,--output", output, "image of the last procedural frame (.png, .exr or .pfm)")->capture_default_str();
-  app.add_option("--constant-output", constant_output, "image of the last constant-diffuse frame (default: none)");
-  app.add_option("--vpls", settings.vpls_per_pixel, "VPLs per pixel (M)")->capture_default_str();
-  app.add_option("--interleave", settings.interleave, "interleaving pattern size S")->capture_default_str();
-  app.add_option("--aa", settings.antialiasing, "primary rays per pixel N")->capture_default_str();
-  app.add_option("--threads", settings.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+  igi::programs::CommandLine command_line{"igi-procedural: the paper's Figure 3, procedural shading in a globally illuminated room"};
+  command_line.add("--size", size, "image size WIDTHxHEIGHT").show_default();
+  command_line.add("--frames", frames, "frames per shading mode (the lamp moves every frame)").range(1, 100000).show_default();
+  command_line.add("-o,--output", output, "image of the last procedural frame (.png, .exr or .pfm)").show_default();
+  command_line.add("--constant-output", constant_output, "image of the last constant-diffuse frame (default: none)");
+  command_line.add("--vpls", settings.vpls_per_pixel, "VPLs per pixel (M)").show_default();
+  command_line.add("--interleave", settings.interleave, "interleaving pattern size S").show_default();
+  command_line.add("--aa", settings.antialiasing, "primary rays per pixel N").show_default();
+  command_line.add("--threads", settings.threads, "worker threads (0: all cores)").range(0, 1024).show_default();
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
+    if (!command_line.parse(argc, argv)) return 0;
+  } catch (const igi::programs::UsageError& e) {
     std::cerr << "igi-procedural: " << e.what() << "\n";
     return 2;
   }

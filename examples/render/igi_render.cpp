@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
+#include "common/command_line.hpp"
 #include <nlohmann/json.hpp>
 #include <oneapi/tbb/info.h>
 
@@ -178,20 +178,18 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
 
 int main(int argc, char** argv) {
   Options options;
-  CLI::App app{"igi-render: interactive global illumination (instant radiosity with interleaved sampling)"};
-  add_render_options(app, options, "worker threads (0: all cores)",
+  CommandLine command_line{"igi-render: interactive global illumination (instant radiosity with interleaved sampling)"};
+  add_render_options(command_line, options, "worker threads (0: all cores)",
                      "frames to render (timings are their median; with --integrator path: passes of --spp samples)");
-  app.add_option("--animate", options.animate,
+  command_line.add("--animate", options.animate,
                  "render --frames frames of a moving scene to an image sequence: -o out.png writes out_0000.png, "
                  "out_0001.png, ...; -o frames/%04d.png numbers them printf-style. light: the lights circle, "
                  "object: the smallest object slides, camera: the view orbits the scene")
-      ->check(CLI::IsMember({"none", "light", "object", "camera"}))
-      ->capture_default_str();
+      .choices({"none", "light", "object", "camera"})
+      .show_default();
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
+    if (!command_line.parse(argc, argv)) return 0;
+  } catch (const UsageError& e) {
     std::cerr << "igi-render: " << e.what() << "\n";
     return 2;
   }

@@ -15,7 +15,7 @@
 
 #include <SDL.h>
 
-#include <CLI/CLI.hpp>
+#include "common/command_line.hpp"
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/backends/reference/reference_backend.hpp"
@@ -34,10 +34,7 @@
 
 namespace {
 
-/// A usage error: exit code 2 with a one-line message.
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+using igi::programs::UsageError;
 
 /// A backend and packet width the viewer can switch to (each one is a separate Renderer type).
 struct BackendChoice {
@@ -438,27 +435,25 @@ class Viewer {
 
 int main(int argc, char** argv) {
   Options options;
-  CLI::App app{"igi-view: interactive global illumination in a window"};
-  app.add_option("scene", options.scene_file, "glTF scene (.gltf or .glb)");
-  app.add_option("--builtin", options.builtin, "built-in scene instead of a file")->check(CLI::IsMember({"cornell"}));
-  app.add_option("--size", options.size, "image size WIDTHxHEIGHT")->capture_default_str();
-  app.add_option("--vpls", options.settings.vpls_per_pixel, "VPLs per pixel (M)")->capture_default_str();
-  app.add_option("--interleave", options.settings.interleave, "interleaving pattern size S")->capture_default_str();
-  app.add_option("--aa", options.settings.antialiasing, "primary rays per pixel N")->capture_default_str();
-  app.add_option("--filter", options.filter, "irradiance filter")->check(CLI::IsMember({"discontinuity", "box", "none"}))->capture_default_str();
-  app.add_option("--backend", options.backend, "ray-tracing backend")->check(CLI::IsMember({"embree", "saarcor", "reference"}))->capture_default_str();
-  app.add_option("--packet", options.packet, "packet width W (embree: 1, 4, 8, 16; reference: 8; saarcor: 64)")->capture_default_str();
-  app.add_option("--threads", options.settings.threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
-  app.add_option("--seed", options.settings.seed, "randomisation seed")->capture_default_str();
-  app.add_option("--frames", options.frames, "quit after this many frames (0: run until closed)")->check(CLI::Range(0, 1000000))->capture_default_str();
-  app.add_option("--script", options.script, "animation from the first frame")->check(CLI::IsMember({"none", "light-orbit", "camera-orbit"}))->capture_default_str();
-  app.add_option("--keys", options.keys, "key presses, one per frame from the first (any of bfilnpr+-), to script a session");
-  app.add_option("--screenshot", options.screenshot, "PNG of the window after the last of --frames frames (interactively: P key)");
+  igi::programs::CommandLine command_line{"igi-view: interactive global illumination in a window"};
+  command_line.add("scene", options.scene_file, "glTF scene (.gltf or .glb)");
+  command_line.add("--builtin", options.builtin, "built-in scene instead of a file").choices({"cornell"});
+  command_line.add("--size", options.size, "image size WIDTHxHEIGHT").show_default();
+  command_line.add("--vpls", options.settings.vpls_per_pixel, "VPLs per pixel (M)").show_default();
+  command_line.add("--interleave", options.settings.interleave, "interleaving pattern size S").show_default();
+  command_line.add("--aa", options.settings.antialiasing, "primary rays per pixel N").show_default();
+  command_line.add("--filter", options.filter, "irradiance filter").choices({"discontinuity", "box", "none"}).show_default();
+  command_line.add("--backend", options.backend, "ray-tracing backend").choices({"embree", "saarcor", "reference"}).show_default();
+  command_line.add("--packet", options.packet, "packet width W (embree: 1, 4, 8, 16; reference: 8; saarcor: 64)").show_default();
+  command_line.add("--threads", options.settings.threads, "worker threads (0: all cores)").range(0, 1024).show_default();
+  command_line.add("--seed", options.settings.seed, "randomisation seed").show_default();
+  command_line.add("--frames", options.frames, "quit after this many frames (0: run until closed)").range(0, 1000000).show_default();
+  command_line.add("--script", options.script, "animation from the first frame").choices({"none", "light-orbit", "camera-orbit"}).show_default();
+  command_line.add("--keys", options.keys, "key presses, one per frame from the first (any of bfilnpr+-), to script a session");
+  command_line.add("--screenshot", options.screenshot, "PNG of the window after the last of --frames frames (interactively: P key)");
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
+    if (!command_line.parse(argc, argv)) return 0;
+  } catch (const UsageError& e) {
     std::cerr << "igi-view: " << e.what() << "\n";
     return 2;
   }
@@ -483,7 +478,7 @@ int main(int argc, char** argv) {
     igi::Scene scene = options.builtin.empty() ? igi::load_gltf(options.scene_file) : igi::cornell_box();
     Viewer viewer(scene, options);
     return viewer.run();
-  } catch (const UsageError& e) {
+  } catch (const igi::programs::UsageError& e) {
     std::cerr << "igi-view: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {

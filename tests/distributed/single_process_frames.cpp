@@ -6,7 +6,7 @@
 #include <iostream>
 #include <string>
 
-#include <CLI/CLI.hpp>
+#include "common/command_line.hpp"
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/render/animation.hpp"
@@ -24,21 +24,26 @@ int main(int argc, char** argv) {
   std::string scene_file, builtin, output = "frame.png", size = "160x120", animate = "none", filter_name = "discontinuity";
   int frames = 1;
   igi::RenderSettings settings;
-  CLI::App app{"single-process-frames: igi-cluster's frames from one process (Renderer + the same animation)"};
-  app.add_option("scene", scene_file, "glTF scene");
-  app.add_option("--builtin", builtin, "built-in scene")->check(CLI::IsMember({"cornell"}));
-  app.add_option("-o,--output", output, "frames go to <stem>_NNNN<ext>");
-  app.add_option("--size", size, "WIDTHxHEIGHT");
-  app.add_option("--vpls", settings.vpls_per_pixel, "VPLs per pixel");
-  app.add_option("--interleave", settings.interleave, "interleaving S");
-  app.add_option("--aa", settings.antialiasing, "primary rays per pixel");
-  app.add_option("--filter", filter_name, "irradiance filter")->check(CLI::IsMember({"discontinuity", "box", "none"}));
-  app.add_option("--threads", settings.threads, "threads");
-  app.add_option("--seed", settings.seed, "seed");
-  app.add_option("--tile", settings.tile_size, "tile edge");
-  app.add_option("--frames", frames, "frames")->check(CLI::Range(1, 100000));
-  app.add_option("--animate", animate, "animation")->check(CLI::IsMember({"none", "light", "camera", "object"}));
-  CLI11_PARSE(app, argc, argv);
+  igi::programs::CommandLine command_line{"single-process-frames: igi-cluster's frames from one process (Renderer + the same animation)"};
+  command_line.add("scene", scene_file, "glTF scene");
+  command_line.add("--builtin", builtin, "built-in scene").choices({"cornell"});
+  command_line.add("-o,--output", output, "frames go to <stem>_NNNN<ext>");
+  command_line.add("--size", size, "WIDTHxHEIGHT");
+  command_line.add("--vpls", settings.vpls_per_pixel, "VPLs per pixel");
+  command_line.add("--interleave", settings.interleave, "interleaving S");
+  command_line.add("--aa", settings.antialiasing, "primary rays per pixel");
+  command_line.add("--filter", filter_name, "irradiance filter").choices({"discontinuity", "box", "none"});
+  command_line.add("--threads", settings.threads, "threads");
+  command_line.add("--seed", settings.seed, "seed");
+  command_line.add("--tile", settings.tile_size, "tile edge");
+  command_line.add("--frames", frames, "frames").range(1, 100000);
+  command_line.add("--animate", animate, "animation").choices({"none", "light", "camera", "object"});
+  try {
+    if (!command_line.parse(argc, argv)) return 0;
+  } catch (const igi::programs::UsageError& error) {
+    std::cerr << "single-process-frames: " << error.what() << "\n";
+    return 2;
+  }
   try {
     if (std::sscanf(size.c_str(), "%dx%d", &settings.width, &settings.height) != 2)
       throw igi::SettingsError("--size '" + size + "' is not WIDTHxHEIGHT");

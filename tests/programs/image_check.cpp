@@ -9,7 +9,7 @@
 #include <iostream>
 #include <string>
 
-#include <CLI/CLI.hpp>
+#include "common/command_line.hpp"
 
 #include "igi/io/image.hpp"
 
@@ -21,15 +21,20 @@ int main(int argc, char** argv) {
   // on average) rejects grey images but not a white room with one coloured wall.
   double min_mean = 0.05, max_mean = 0.95, min_stddev = 0.03, min_chroma = 0.02;
   int width = 0, height = 0;
-  CLI::App app{"igi-image-check: checks that an image is a plausible rendering"};
-  app.add_option("image", path, "image file (.png, .exr, .pfm)")->required();
-  app.add_option("--min-mean", min_mean, "lowest mean display value")->capture_default_str();
-  app.add_option("--max-mean", max_mean, "highest mean display value")->capture_default_str();
-  app.add_option("--min-stddev", min_stddev, "lowest standard deviation of display values")->capture_default_str();
-  app.add_option("--min-chroma", min_chroma, "lowest mean of (largest - smallest channel)")->capture_default_str();
-  app.add_option("--width", width, "expected width (0: any)");
-  app.add_option("--height", height, "expected height (0: any)");
-  CLI11_PARSE(app, argc, argv);
+  igi::programs::CommandLine command_line{"igi-image-check: checks that an image is a plausible rendering"};
+  command_line.add("image", path, "image file (.png, .exr, .pfm)").required();
+  command_line.add("--min-mean", min_mean, "lowest mean display value").show_default();
+  command_line.add("--max-mean", max_mean, "highest mean display value").show_default();
+  command_line.add("--min-stddev", min_stddev, "lowest standard deviation of display values").show_default();
+  command_line.add("--min-chroma", min_chroma, "lowest mean of (largest - smallest channel)").show_default();
+  command_line.add("--width", width, "expected width (0: any)");
+  command_line.add("--height", height, "expected height (0: any)");
+  try {
+    if (!command_line.parse(argc, argv)) return 0;
+  } catch (const igi::programs::UsageError& error) {
+    std::cerr << "igi-image-check: " << error.what() << "\n";
+    return 2;
+  }
   try {
     const igi::Image image = igi::read_image(path);
     if ((width > 0 && image.width != width) || (height > 0 && image.height != height)) {

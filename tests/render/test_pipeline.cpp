@@ -2,6 +2,8 @@
 // filter benefit, robustness on real scenes, dynamic scenes.
 #include <catch2/catch.hpp>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "igi/scene/gltf.hpp"
 #include "render_support.hpp"
 #include "scenes.hpp"

@@ -1,0 +1,78 @@
+// CommandLine over CLI11 (see command_line.hpp): the one translation unit that compiles CLI11.
+#include "common/command_line.hpp"
+
+#include <CLI/CLI.hpp>
+
+namespace igi::programs {
+
+CommandLineOption& CommandLineOption::choices(std::initializer_list<std::string> values) {
+  option_->check(CLI::IsMember(std::vector(values)));
+  return *this;
+}
+
+CommandLineOption& CommandLineOption::choices(std::initializer_list<int> values) {
+  option_->check(CLI::IsMember(std::vector(values)));
+  return *this;
+}
+
+CommandLineOption& CommandLineOption::range(int low, int high) {
+  option_->check(CLI::Range(low, high));
+  return *this;
+}
+
+CommandLineOption& CommandLineOption::range(double low, double high) {
+  option_->check(CLI::Range(low, high));
+  return *this;
+}
+
+CommandLineOption& CommandLineOption::show_default() {
+  option_->capture_default_str();
+  return *this;
+}
+
+CommandLineOption& CommandLineOption::required() {
+  option_->required();
+  return *this;
+}
+
+CommandLine::CommandLine(const std::string& description) : app_(std::make_unique<CLI::App>(description)) {}
+
+CommandLine::~CommandLine() = default;
+
+CommandLineOption CommandLine::add(const std::string& names, std::string& value, const std::string& help) {
+  return CommandLineOption(app_->add_option(names, value, help));
+}
+
+CommandLineOption CommandLine::add(const std::string& names, int& value, const std::string& help) {
+  return CommandLineOption(app_->add_option(names, value, help));
+}
+
+CommandLineOption CommandLine::add(const std::string& names, std::uint32_t& value, const std::string& help) {
+  return CommandLineOption(app_->add_option(names, value, help));
+}
+
+CommandLineOption CommandLine::add(const std::string& names, float& value, const std::string& help) {
+  return CommandLineOption(app_->add_option(names, value, help));
+}
+
+CommandLineOption CommandLine::add(const std::string& names, double& value, const std::string& help) {
+  return CommandLineOption(app_->add_option(names, value, help));
+}
+
+void CommandLine::flag(const std::string& names, bool& value, const std::string& help) {
+  app_->add_flag(names, value, help);
+}
+
+bool CommandLine::parse(int argc, char** argv, bool speak) {
+  try {
+    app_->parse(argc, argv);
+    return true;
+  } catch (const CLI::CallForHelp& help) {
+    if (speak) app_->exit(help);
+    return false;
+  } catch (const CLI::ParseError& error) {
+    throw UsageError(error.what());
+  }
+}
+
+}  // namespace igi::programs

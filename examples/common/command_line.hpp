@@ -1,0 +1,77 @@
+#pragma once
+// The command line of igi's programs: CLI11 behind a small interface. CLI11 is header-only and
+// costs some 20 CPU-seconds in every program that uses it directly (at -O3); behind this class it
+// is compiled once, in command_line.cpp (the CMake target igi_command_line).
+
+#include <cstdint>
+#include <initializer_list>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace CLI {
+class App;
+class Option;
+}  // namespace CLI
+
+namespace igi::programs {
+
+/// A usage error: exit code 2 with a one-line message.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// One option of a CommandLine, to attach checks to.
+class CommandLineOption {
+ public:
+  /// The value must be one of `values`.
+  CommandLineOption& choices(std::initializer_list<std::string> values);
+  /// The value must be one of `values`.
+  CommandLineOption& choices(std::initializer_list<int> values);
+  /// The value must lie in [low, high].
+  CommandLineOption& range(int low, int high);
+  /// The value must lie in [low, high].
+  CommandLineOption& range(double low, double high);
+  /// --help shows the value the variable had when the option was added.
+  CommandLineOption& show_default();
+  /// The option must be given.
+  CommandLineOption& required();
+
+ private:
+  friend class CommandLine;
+  explicit CommandLineOption(CLI::Option* option) noexcept : option_(option) {}
+  CLI::Option* option_;  ///< Owned by the CommandLine.
+};
+
+/// A program's command line: options bound to variables, then parsed.
+class CommandLine {
+ public:
+  /// An empty command line; `description` heads --help.
+  explicit CommandLine(const std::string& description);
+  ~CommandLine();
+  CommandLine(const CommandLine&) = delete;             ///< Options point into the variables and the parser.
+  CommandLine& operator=(const CommandLine&) = delete;  ///< Options point into the variables and the parser.
+
+  /// An option such as "-o,--output" (a positional argument when `names` has no leading dash) that sets `value`.
+  CommandLineOption add(const std::string& names, std::string& value, const std::string& help);
+  /// An option such as "-o,--output" (a positional argument when `names` has no leading dash) that sets `value`.
+  CommandLineOption add(const std::string& names, int& value, const std::string& help);
+  /// An option such as "-o,--output" (a positional argument when `names` has no leading dash) that sets `value`.
+  CommandLineOption add(const std::string& names, std::uint32_t& value, const std::string& help);
+  /// An option such as "-o,--output" (a positional argument when `names` has no leading dash) that sets `value`.
+  CommandLineOption add(const std::string& names, float& value, const std::string& help);
+  /// An option such as "-o,--output" (a positional argument when `names` has no leading dash) that sets `value`.
+  CommandLineOption add(const std::string& names, double& value, const std::string& help);
+  /// A flag that sets `value` to true when given.
+  void flag(const std::string& names, bool& value, const std::string& help);
+
+  /// Parses the arguments into the variables. Returns false when --help was asked for (it is
+  /// printed to stdout if `speak`; the program then exits with 0); throws UsageError with CLI11's
+  /// message for a bad command line.
+  bool parse(int argc, char** argv, bool speak = true);
+
+ private:
+  std::unique_ptr<CLI::App> app_;  ///< The CLI11 parser.
+};
+
+}  // namespace igi::programs
