@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "common/command_line.hpp"
@@ -18,7 +19,7 @@
 #include "igi/shading/gltf_material_shader.hpp"
 
 int main(int argc, char** argv) {
-  igi::programs::CommandLine command_line{"igi-path-render: igi's reference path tracer into an HDR image"};
+  igi::programs::CommandLine command_line{"igi-path-render", "igi's reference path tracer into an HDR image"};
   std::string scene_path, builtin, output, size = "256x256";
   int spp = 64, threads = 0;
   std::uint32_t seed = 0;
@@ -31,12 +32,7 @@ int main(int argc, char** argv) {
   command_line.add("--seed", seed, "Random seed");
   command_line.add("--threads", threads, "Worker threads (0: all cores)").range(0, 1024);
   command_line.flag("--pixel-centre", centre, "Sample pixel centres only (as IGI without anti-aliasing)");
-  try {
-    if (!command_line.parse(argc, argv)) return 0;
-  } catch (const igi::programs::UsageError& error) {
-    std::cerr << "igi-path-render: " << error.what() << "\n";
-    return 2;
-  }
+  if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   int width = 0, height = 0;
   if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2 || width < 1 || height < 1) {
     std::cerr << "igi-path-render: --size '" << size << "' is not WxH with positive W and H\n";

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -127,7 +128,7 @@ int main(int argc, char** argv) {
   igi::MpiSession mpi(argc, argv);
   const int rank = mpi.rank();
   Options options;
-  CommandLine command_line{"igi-cluster: igi-render's IGI pipeline as the paper's tile farm on MPI (mpirun -np N igi-cluster ...)"};
+  CommandLine command_line{"igi-cluster", "igi-render's IGI pipeline as the paper's tile farm on MPI (mpirun -np N igi-cluster ...)"};
   add_render_options(command_line, options, "threads per rank (0: all cores)", "frames to render (indices 0..F-1)");
   command_line.add("--animate", options.animate, "dynamic scene: a deterministic function of the frame index").choices({"none", "light", "camera", "object"}).show_default();
   command_line.flag("--every-frame", options.every_frame, "also write every frame as <stem>_NNNN<ext>");
@@ -140,12 +141,7 @@ int main(int argc, char** argv) {
   auto say = [rank](const std::string& text) {
     if (rank == 0) std::cerr << "igi-cluster: " << text << "\n";
   };
-  try {
-    if (!command_line.parse(argc, argv, rank == 0)) return 0;
-  } catch (const UsageError& e) {
-    say(e.what());
-    return 2;
-  }
+  if (const std::optional<int> exit_code = command_line.parse(argc, argv, rank == 0)) return *exit_code;
   try {
     check_render_options(options);
     if (options.integrator == "path") throw UsageError("--integrator path: the path tracer does not run on the farm");

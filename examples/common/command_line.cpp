@@ -1,6 +1,8 @@
 // CommandLine over CLI11 (see command_line.hpp): the one translation unit that compiles CLI11.
 #include "common/command_line.hpp"
 
+#include <iostream>
+
 #include <CLI/CLI.hpp>
 
 namespace igi::programs {
@@ -35,7 +37,8 @@ CommandLineOption& CommandLineOption::required() {
   return *this;
 }
 
-CommandLine::CommandLine(const std::string& description) : app_(std::make_unique<CLI::App>(description)) {}
+CommandLine::CommandLine(const std::string& program, const std::string& description)
+    : program_(program), app_(std::make_unique<CLI::App>(program + ": " + description)) {}
 
 CommandLine::~CommandLine() = default;
 
@@ -63,15 +66,16 @@ void CommandLine::flag(const std::string& names, bool& value, const std::string&
   app_->add_flag(names, value, help);
 }
 
-bool CommandLine::parse(int argc, char** argv, bool speak) {
+std::optional<int> CommandLine::parse(int argc, char** argv, bool speak) {
   try {
     app_->parse(argc, argv);
-    return true;
+    return std::nullopt;
   } catch (const CLI::CallForHelp& help) {
     if (speak) app_->exit(help);
-    return false;
+    return 0;
   } catch (const CLI::ParseError& error) {
-    throw UsageError(error.what());
+    if (speak) std::cerr << program_ << ": " << error.what() << "\n";
+    return 2;
   }
 }
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -46,8 +47,8 @@ class CommandLineOption {
 /// A program's command line: options bound to variables, then parsed.
 class CommandLine {
  public:
-  /// An empty command line; `description` heads --help.
-  explicit CommandLine(const std::string& description);
+  /// An empty command line of `program`; "program: description" heads --help.
+  CommandLine(const std::string& program, const std::string& description);
   ~CommandLine();
   CommandLine(const CommandLine&) = delete;             ///< Options point into the variables and the parser.
   CommandLine& operator=(const CommandLine&) = delete;  ///< Options point into the variables and the parser.
@@ -65,12 +66,14 @@ class CommandLine {
   /// A flag that sets `value` to true when given.
   void flag(const std::string& names, bool& value, const std::string& help);
 
-  /// Parses the arguments into the variables. Returns false when --help was asked for (it is
-  /// printed to stdout if `speak`; the program then exits with 0); throws UsageError with CLI11's
-  /// message for a bad command line.
-  bool parse(int argc, char** argv, bool speak = true);
+  /// Parses the arguments into the variables. Returns the exit code when the program should stop
+  /// now: 0 after printing --help to stdout, 2 after printing "program: problem" to stderr for a
+  /// bad command line; nothing when it should go on. With `speak` false it prints neither (for
+  /// all but one of several processes parsing the same command line).
+  std::optional<int> parse(int argc, char** argv, bool speak = true);
 
  private:
+  std::string program_;            ///< Name in messages.
   std::unique_ptr<CLI::App> app_;  ///< The CLI11 parser.
 };
 

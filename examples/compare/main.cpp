@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "common/command_line.hpp"
@@ -13,19 +14,14 @@
 #include "igi/io/metrics.hpp"
 
 int main(int argc, char** argv) {
-  igi::programs::CommandLine command_line{"igi-compare: RMSE, relMSE and SSIM of TEST against the reference REF (PNG, EXR or PFM)"};
+  igi::programs::CommandLine command_line{"igi-compare", "RMSE, relMSE and SSIM of TEST against the reference REF (PNG, EXR or PFM)"};
   std::string reference_path, test_path;
   bool json = false, ignore_brightest = false;
   command_line.add("REF", reference_path, "Reference image").required();
   command_line.add("TEST", test_path, "Image to measure").required();
   command_line.flag("--json", json, "Print one JSON object instead of text");
   command_line.flag("--ignore-brightest", ignore_brightest, "relMSE without the brightest 0.1% of reference pixels");
-  try {
-    if (!command_line.parse(argc, argv)) return 0;
-  } catch (const igi::programs::UsageError& error) {
-    std::cerr << "igi-compare: " << error.what() << " (see --help)\n";
-    return 2;
-  }
+  if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
     const igi::Image reference = igi::read_image(reference_path);
     const igi::Image test = igi::read_image(test_path);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,7 +48,7 @@ int main(int argc, char** argv) {
   std::string constant_output;
   int frames = 8;
   igi::RenderSettings settings;
-  igi::programs::CommandLine command_line{"igi-procedural: the paper's Figure 3, procedural shading in a globally illuminated room"};
+  igi::programs::CommandLine command_line{"igi-procedural", "the paper's Figure 3, procedural shading in a globally illuminated room"};
   command_line.add("--size", size, "image size WIDTHxHEIGHT").show_default();
   command_line.add("--frames", frames, "frames per shading mode (the lamp moves every frame)").range(1, 100000).show_default();
   command_line.add("-o,--output", output, "image of the last procedural frame (.png, .exr or .pfm)").show_default();
@@ -56,12 +57,7 @@ int main(int argc, char** argv) {
   command_line.add("--interleave", settings.interleave, "interleaving pattern size S").show_default();
   command_line.add("--aa", settings.antialiasing, "primary rays per pixel N").show_default();
   command_line.add("--threads", settings.threads, "worker threads (0: all cores)").range(0, 1024).show_default();
-  try {
-    if (!command_line.parse(argc, argv)) return 0;
-  } catch (const igi::programs::UsageError& e) {
-    std::cerr << "igi-procedural: " << e.what() << "\n";
-    return 2;
-  }
+  if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
     int width = 0, height = 0;
     char x = 0, rest = 0;

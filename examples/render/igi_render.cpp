@@ -178,7 +178,7 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
 
 int main(int argc, char** argv) {
   Options options;
-  CommandLine command_line{"igi-render: interactive global illumination (instant radiosity with interleaved sampling)"};
+  CommandLine command_line{"igi-render", "interactive global illumination (instant radiosity with interleaved sampling)"};
   add_render_options(command_line, options, "worker threads (0: all cores)",
                      "frames to render (timings are their median; with --integrator path: passes of --spp samples)");
   command_line.add("--animate", options.animate,
@@ -187,12 +187,7 @@ int main(int argc, char** argv) {
                  "object: the smallest object slides, camera: the view orbits the scene")
       .choices({"none", "light", "object", "camera"})
       .show_default();
-  try {
-    if (!command_line.parse(argc, argv)) return 0;
-  } catch (const UsageError& e) {
-    std::cerr << "igi-render: " << e.what() << "\n";
-    return 2;
-  }
+  if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
     check_render_options(options);
     if (options.animate != "none") {

@@ -435,7 +435,7 @@ class Viewer {
 
 int main(int argc, char** argv) {
   Options options;
-  igi::programs::CommandLine command_line{"igi-view: interactive global illumination in a window"};
+  igi::programs::CommandLine command_line{"igi-view", "interactive global illumination in a window"};
   command_line.add("scene", options.scene_file, "glTF scene (.gltf or .glb)");
   command_line.add("--builtin", options.builtin, "built-in scene instead of a file").choices({"cornell"});
   command_line.add("--size", options.size, "image size WIDTHxHEIGHT").show_default();
@@ -451,12 +451,7 @@ int main(int argc, char** argv) {
   command_line.add("--script", options.script, "animation from the first frame").choices({"none", "light-orbit", "camera-orbit"}).show_default();
   command_line.add("--keys", options.keys, "key presses, one per frame from the first (any of bfilnpr+-), to script a session");
   command_line.add("--screenshot", options.screenshot, "PNG of the window after the last of --frames frames (interactively: P key)");
-  try {
-    if (!command_line.parse(argc, argv)) return 0;
-  } catch (const UsageError& e) {
-    std::cerr << "igi-view: " << e.what() << "\n";
-    return 2;
-  }
+  if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
     parse_size(options.size, options.settings);
     if (options.scene_file.empty() == options.builtin.empty()) throw UsageError("give either a SCENE file or --builtin cornell");

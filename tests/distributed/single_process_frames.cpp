@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "common/command_line.hpp"
@@ -24,7 +25,7 @@ int main(int argc, char** argv) {
   std::string scene_file, builtin, output = "frame.png", size = "160x120", animate = "none", filter_name = "discontinuity";
   int frames = 1;
   igi::RenderSettings settings;
-  igi::programs::CommandLine command_line{"single-process-frames: igi-cluster's frames from one process (Renderer + the same animation)"};
+  igi::programs::CommandLine command_line{"single-process-frames", "igi-cluster's frames from one process (Renderer + the same animation)"};
   command_line.add("scene", scene_file, "glTF scene");
   command_line.add("--builtin", builtin, "built-in scene").choices({"cornell"});
   command_line.add("-o,--output", output, "frames go to <stem>_NNNN<ext>");
@@ -38,12 +39,7 @@ int main(int argc, char** argv) {
   command_line.add("--tile", settings.tile_size, "tile edge");
   command_line.add("--frames", frames, "frames").range(1, 100000);
   command_line.add("--animate", animate, "animation").choices({"none", "light", "camera", "object"});
-  try {
-    if (!command_line.parse(argc, argv)) return 0;
-  } catch (const igi::programs::UsageError& error) {
-    std::cerr << "single-process-frames: " << error.what() << "\n";
-    return 2;
-  }
+  if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
     if (std::sscanf(size.c_str(), "%dx%d", &settings.width, &settings.height) != 2)
       throw igi::SettingsError("--size '" + size + "' is not WIDTHxHEIGHT");

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "common/command_line.hpp"
@@ -21,7 +22,7 @@ int main(int argc, char** argv) {
   // on average) rejects grey images but not a white room with one coloured wall.
   double min_mean = 0.05, max_mean = 0.95, min_stddev = 0.03, min_chroma = 0.02;
   int width = 0, height = 0;
-  igi::programs::CommandLine command_line{"igi-image-check: checks that an image is a plausible rendering"};
+  igi::programs::CommandLine command_line{"igi-image-check", "checks that an image is a plausible rendering"};
   command_line.add("image", path, "image file (.png, .exr, .pfm)").required();
   command_line.add("--min-mean", min_mean, "lowest mean display value").show_default();
   command_line.add("--max-mean", max_mean, "highest mean display value").show_default();
@@ -29,12 +30,7 @@ int main(int argc, char** argv) {
   command_line.add("--min-chroma", min_chroma, "lowest mean of (largest - smallest channel)").show_default();
   command_line.add("--width", width, "expected width (0: any)");
   command_line.add("--height", height, "expected height (0: any)");
-  try {
-    if (!command_line.parse(argc, argv)) return 0;
-  } catch (const igi::programs::UsageError& error) {
-    std::cerr << "igi-image-check: " << error.what() << "\n";
-    return 2;
-  }
+  if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
     const igi::Image image = igi::read_image(path);
     if ((width > 0 && image.width != width) || (height > 0 && image.height != height)) {
