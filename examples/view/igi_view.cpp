@@ -473,7 +473,7 @@ int main(int argc, char** argv) {
     igi::Scene scene = options.builtin.empty() ? igi::load_gltf(options.scene_file) : igi::cornell_box();
     Viewer viewer(scene, options);
     return viewer.run();
-  } catch (const igi::programs::UsageError& e) {
+  } catch (const UsageError& e) {
     std::cerr << "igi-view: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
