@@ -38,7 +38,7 @@ done
 
 total_start=$(date +%s)
 load_before=$(cut -d' ' -f1-3 /proc/loadavg)
-targets=(pipeline_bench scaling_bench shading_bench)
+targets=(pipeline_bench scaling_bench shading_bench occlusion16_bench)
 
 if [[ $build == 1 ]]; then
   if [[ ! -f "$build_dir/CMakeCache.txt" ]]; then
@@ -101,6 +101,14 @@ if [[ -x "$scaling" ]]; then
   done < <("$scaling" "${extra[@]}" --benchmark_list_tests | sed 's|/iterations:.*||')
 fi
 run shading "$(bin shading shading_bench)" "${extra[@]}"
+# How EmbreeBackend<16> traces coherent shadow packets around Embree's looping kernel (medians of 5;
+# the smoke run times each way once, briefly).
+if [[ $smoke == 1 ]]; then
+  run occlusion16 "$(bin backends occlusion16_bench)" --benchmark_min_time=0.01
+else
+  run occlusion16 "$(bin backends occlusion16_bench)" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+    --benchmark_min_time=0.2
+fi
 
 seconds=$(( $(date +%s) - start ))
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)

@@ -1,8 +1,9 @@
 // Frame-level benchmarks of the IGI pipeline on the Cornell box and Sponza_lit (issue 6, items 2-5):
 //
 //   efficiency/SCENE/threads:T       the physical limit: a frame's exact rays replayed through plain
-//                                    Embree (rtcIntersect16 / rtcOccluded16, coherent flag, no
-//                                    shading) against the full frame; efficiency = Embree / frame
+//                                    Embree (rtcIntersect16 / rtcOccluded16 flagged as the backend
+//                                    flags them, no shading) against the full frame; efficiency =
+//                                    Embree / frame
 //   table1/SCENE/MODE/KIND           the paper's Table 1 at 1024x1024, 1 thread: primary packets
 //                                    without shading, with simple shading, single rays with simple
 //                                    shading; MODE static or dynamic (an instance moves every frame)
@@ -140,8 +141,10 @@ struct ReplayTimes {
   double total() const { return closest + occlusion + singles; }
 };
 
-/// Replays everything once: packets with rtcIntersect16 / rtcOccluded16 and the coherent flag,
-/// single rays with rtcIntersect1 / rtcOccluded1 (incoherent: one ray has nothing to share).
+/// Replays everything once: packets with rtcIntersect16 / rtcOccluded16 and the coherent flag
+/// (occlusion incoherent while Embree's coherent 16-wide occlusion can loop, as in
+/// EmbreeBackend<16>), single rays with rtcIntersect1 / rtcOccluded1 (incoherent: one ray has
+/// nothing to share).
 /// The buffers must be fresh (Replay::reset) before each call.
 ReplayTimes replay_once(Replay& replay, RTCScene scene, tbb::task_arena& arena) {
   ReplayTimes t;
@@ -158,7 +161,8 @@ ReplayTimes replay_once(Replay& replay, RTCScene scene, tbb::task_arena& arena) 
   t.closest = elapsed_ms(start);
   start = clock_type::now();
   replay_parallel(arena, replay.occlusion, [&](ReplayPacket& p) {
-    RTCIntersectContext context = coherent;
+    // Flagged as EmbreeBackend<16> flags them: never the coherent kernel where it can loop.
+    RTCIntersectContext context = igi::detail::embree_coherent_occlusion16_may_loop ? incoherent : coherent;
     rtcOccluded16(p.valid, scene, &context, &p.rayhit.ray);
   });
   t.occlusion = elapsed_ms(start);

@@ -15,6 +15,7 @@
 #include <oneapi/tbb/info.h>
 
 #include "common/render_options.hpp"
+#include "common/stop_signals.hpp"
 #include "igi/render/animation.hpp"
 #include "igi/distributed/tile_farm.hpp"
 #include "igi/lighting/qmc_vpl_sampler.hpp"
@@ -59,13 +60,17 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
   igi::TileFarm farm(MPI_COMM_WORLD, renderer, farm_options);
   if (rank != 0) {
     farm.serve();
-    return 0;
+    return stop_requested() ? stopped("igi-cluster") : 0;
   }
   nlohmann::json frames = nlohmann::json::array();
   igi::Frame frame;
   for (int f = 0; f < options.frames; ++f) {
     const auto index = std::uint32_t(f);
     frame = farm.render_frame(igi::animate(initial, camera, animation, index), index);
+    if (stop_requested()) {
+      farm.shutdown();  // the workers return from serve() instead of waiting for the next frame
+      return stopped("igi-cluster");
+    }
     const igi::ClusterFrameReport& report = farm.report();
     if (options.every_frame) write_frame(frame_path(options.output, index), frame);
     std::string tiles;
@@ -125,6 +130,9 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Before MPI_Init, whose threads must inherit the blocked stop signals. A worker waiting for
+  // tiles inside MPI ends after the grace period; mpirun then stops the other ranks.
+  install_stop_signals();
   igi::MpiSession mpi(argc, argv);
   const int rank = mpi.rank();
   Options options;

@@ -16,6 +16,7 @@
 
 #include "common/progress_bar.hpp"
 #include "common/render_options.hpp"
+#include "common/stop_signals.hpp"
 #include "igi/render/animation.hpp"
 #include "igi/lighting/qmc_vpl_sampler.hpp"
 #include "igi/render/filter_choice.hpp"
@@ -98,6 +99,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
     const auto index = std::uint32_t(f);
     const igi::Camera view = sequence ? igi::apply_changes(renderer, igi::animate(initial, camera, animation, index)) : camera;
     frame = renderer.render(view, index);
+    if (stop_requested()) return stopped("igi-render");
     milliseconds.push_back(frame.statistics.milliseconds);
     if (sequence) write_output(names(f), frame.hdr, frame.rgb8);
     progress.advance();
@@ -140,6 +142,7 @@ int run_path(igi::Scene& scene, const igi::Camera& camera, const Options& option
     for (int added = 0; added < options.spp; added += step) {
       const int now = std::min(step, options.spp - added);
       tracer.add_samples(now);
+      if (stop_requested()) return stopped("igi-render");
       progress.advance(std::uint64_t(now));
     }
     milliseconds.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
@@ -177,6 +180,7 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  install_stop_signals();
   Options options;
   CommandLine command_line{"igi-render", "interactive global illumination (instant radiosity with interleaved sampling)"};
   add_render_options(command_line, options, "worker threads (0: all cores)",

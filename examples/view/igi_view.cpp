@@ -16,6 +16,7 @@
 #include <SDL.h>
 
 #include "common/command_line.hpp"
+#include "common/stop_signals.hpp"
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/backends/reference/reference_backend.hpp"
@@ -146,6 +147,9 @@ class Window {
  public:
   /// Opens a window of width x height pixels titled `title`; throws std::runtime_error naming SDL's error.
   Window(int width, int height, const std::string& title) {
+    // SIGINT and SIGTERM are igi's (common/stop_signals.hpp): SDL would turn them into a quit
+    // event that a window busy rendering never reads.
+    SDL_SetHint(SDL_HINT_NO_SIGNAL_HANDLERS, "1");
     if (SDL_Init(SDL_INIT_VIDEO) != 0) throw std::runtime_error(std::string("SDL_Init: ") + SDL_GetError());
     window_ = SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED, width, height,
                                SDL_WINDOW_RESIZABLE);
@@ -225,10 +229,12 @@ class Viewer {
     std::fputs(key_help, stdout);
     std::vector<double> milliseconds;
     for (std::uint32_t frame = 0;; ++frame) {
+      if (igi::programs::stop_requested()) return igi::programs::stopped("igi-view");
       if (frame < options_.keys.size()) press(options_.keys[frame]);
       if (!handle_events()) break;
       animate();
       const igi::Frame rendered = renderer_->render(camera_.camera(), frame);
+      if (igi::programs::stop_requested()) return igi::programs::stopped("igi-view");
       milliseconds.push_back(rendered.statistics.milliseconds);
       accumulator_.add(rendered.hdr);
       const igi::Rgb8Image shown = igi_view::tone_map(accumulator_.mean());
@@ -434,6 +440,7 @@ class Viewer {
 }  // namespace
 
 int main(int argc, char** argv) {
+  igi::programs::install_stop_signals();
   Options options;
   igi::programs::CommandLine command_line{"igi-view", "interactive global illumination in a window"};
   command_line.add("scene", options.scene_file, "glTF scene (.gltf or .glb)");

@@ -12,7 +12,9 @@
 /// `flatten_limit` triangles (a mesh instanced many times, like the paper's power plant),
 /// meshes used by several instances stay instanced from the start. Either way hits report
 /// geomID = mesh index and instID = instance index. Packets go to rtcIntersect1/4/8/16 and
-/// rtcOccluded1/4/8/16; Embree errors become igi::EmbreeError carrying Embree's message.
+/// rtcOccluded1/4/8/16 (16-wide occlusion always flagged incoherent while Embree's coherent
+/// 16-wide occlusion kernel can loop: `detail::embree_coherent_occlusion16_may_loop`); Embree
+/// errors become igi::EmbreeError carrying Embree's message.
 /// Link with the CMake target igi::embree. Embree runs much faster with denormals flushed to zero
 /// (_MM_SET_FLUSH_ZERO_MODE / _MM_SET_DENORMALS_ZERO_MODE on each tracing thread); the backend
 /// leaves the caller's floating-point mode alone.
@@ -62,6 +64,27 @@ inline const char* embree_error_name(RTCError code) noexcept {
   }
   return "unknown Embree error";
 }
+
+/// True while the linked Embree's coherent 16-wide occlusion kernel can loop forever, so that
+/// EmbreeBackend<16> must not reach it. In Embree before 4.4.1, `occludedCoherent` (kernels/bvh/
+/// bvh_intersector_hybrid.cpp) keeps its valid mask in a `size_t`; GCC before 14 stores the 16-bit
+/// AVX-512 mask to a stack slot with `kmovw` and reads it back as 64 bits (`cmpq`, `tzcnt`), so
+/// whatever the slot held before lands above bit 15. The octant loop
+/// `do { i = bsf(valid_bits); ...; valid_bits &= ~movemask(octant_valid); } while (valid_bits);`
+/// then picks a lane index of 16 or more, whose octant matches no lane, and never clears those
+/// bits. Debian 12's libembree3 3.13.5 is built with GCC 12.2; gdb on a hung igi-render shows the
+/// `kmovw %k6,0x640(%rsp)` / `cmpq $0x0,0x640(%rsp)` pair. What the slot holds depends on the
+/// code that ran before, so the loop shows on some CPUs and `-march` builds and not on others.
+/// Embree fixed it in 4.4.1 (RenderKit/embree pull request 574: the mask as `unsigned short`).
+/// igi is written against Embree 3, whose RTC_VERSION is below 40000, so this is true for every
+/// Embree igi can link today; the guard can go once igi moves to Embree 4.4.1 or later.
+/// Embree 3.13.5's 4- and 8-wide coherent kernels and its coherent closest-hit kernels share the
+/// loop's source, but not the miscompile: scripts/embree_mask_scan.py finds the 16-bit store read
+/// back as 64 bits in the 16-wide occlusion kernels only (BVH4 and BVH8, robust or not), and
+/// tests/backends/embree_hang_test.cpp traces every width and kind coherently after filling the
+/// stack with ones (which makes the 16-wide coherent occlusion loop every time) and they return.
+/// So only that one kernel is avoided.
+inline constexpr bool embree_coherent_occlusion16_may_loop = RTC_VERSION < 40401;
 
 /// Embree's packet types for each width.
 template <int W>
@@ -590,6 +613,14 @@ class EmbreeBackend {
   template <int N>
   static vmask<N> trace_any(RTCScene top, RayPacket<N>& rays, Coherence coherence, const vmask<N>& mask) {
     using EmbreeRay = typename detail::EmbreePacketTypes<N>::Ray;
+    // Never Embree's coherent 16-wide occlusion kernel where it can loop forever (see
+    // detail::embree_coherent_occlusion16_may_loop). Of the ways around it, the incoherent flag
+    // was fastest on the Cornell box (1.6x two coherent 8-wide halves, 1.7x a device made with
+    // "isa=avx2") and on a million-triangle terrain (1.02x), 8% slower on Sponza
+    // (bench/backends/occlusion16_bench.cpp, bench/README.md). The AVX2 device is no way out in
+    // any case: it traces 16-wide packets as Embree's ray stream, which ignores valid[]
+    // (rtcore.cpp, rtcOccluded16) and asserts that inactive lanes hold finite rays.
+    if constexpr (N == 16 && detail::embree_coherent_occlusion16_may_loop) coherence = Coherence::incoherent;
     RTCIntersectContext ctx = context<N>(coherence);
     const ValidLanes<N> valid = valid_lanes(rays, mask);
     // Occlusion needs no hit record: Embree reads and writes the packet in place.
