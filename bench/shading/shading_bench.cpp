@@ -66,7 +66,7 @@ SceneFrame* scene_frame_of(const std::string& name, std::string& why) {
   made->scene = &loaded->scene;
   made->settings = view_settings();
   const EmbreeBackend<16> backend(loaded->scene);  // VPL walks trace single rays: any backend gives the same VPLs
-  made->frame.prepare(loaded->scene, backend, QmcVplSampler{}, made->settings, loaded->camera, 0, ToneMapping{});
+  made->frame.prepare(loaded->scene, loaded->scene.bounds(), backend, QmcVplSampler{}, made->settings, loaded->camera, 0, ToneMapping{});
   return (cache[name] = std::move(made)).get();
 }
 

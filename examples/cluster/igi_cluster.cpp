@@ -53,6 +53,7 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
   const igi::FilterChoice filter(options.filter);
   const igi::Animation animation = igi::parse_animation(options.animate);
   const igi::Scene initial = scene;  // animations are functions of the initial scene
+  const igi::Animator animator(initial, camera, animation);
   using Renderer = igi::TileRenderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::QmcVplSampler, igi::FilterChoice>;
   Renderer renderer(scene, options.settings, surface, brdf, sampler, filter);
   igi::FarmOptions farm_options = options.farm;
@@ -66,7 +67,7 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
   igi::Frame frame;
   for (int f = 0; f < options.frames; ++f) {
     const auto index = std::uint32_t(f);
-    frame = farm.render_frame(igi::animate(initial, camera, animation, index), index);
+    frame = farm.render_frame(animator(index), index);
     if (stop_requested()) {
       farm.shutdown();  // the workers return from serve() instead of waiting for the next frame
       return stopped("igi-cluster");

@@ -91,13 +91,14 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
   const igi::Animation animation = igi::parse_animation(options.animate);
   const bool sequence = animation != igi::Animation::none;
   const igi::Scene initial = sequence ? scene : igi::Scene{};  // animations are functions of the initial scene
+  const igi::Animator animator(initial, camera, animation);
   const FrameNames names(options.output, options.frames);
   std::vector<double> milliseconds;
   igi::Frame frame;
   ProgressBar progress(std::uint64_t(options.frames), "frames");
   for (int f = 0; f < options.frames; ++f) {
     const auto index = std::uint32_t(f);
-    const igi::Camera view = sequence ? igi::apply_changes(renderer, igi::animate(initial, camera, animation, index)) : camera;
+    const igi::Camera view = sequence ? igi::apply_changes(renderer, animator(index)) : camera;
     frame = renderer.render(view, index);
     if (stop_requested()) return stopped("igi-render");
     milliseconds.push_back(frame.statistics.milliseconds);

@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
     const igi::Camera camera = scene.cameras.empty() ? igi::default_camera(scene) : scene.cameras.front();
     const igi::Scene initial = scene;
     const igi::Animation animation = igi::parse_animation(animate);
+    const igi::Animator animator(initial, camera, animation);
     const igi::GltfMaterialShader surface(scene);
     const igi::StandardBrdf brdf;
     const igi::QmcVplSampler sampler;
@@ -58,7 +59,7 @@ int main(int argc, char** argv) {
     const std::filesystem::path out(output);
     for (int f = 0; f < frames; ++f) {
       // Only values that differ are set, as TileRenderer::apply does (an unchanged scene is not re-committed).
-      const igi::Camera view = igi::apply_changes(renderer, igi::animate(initial, camera, animation, std::uint32_t(f)));
+      const igi::Camera view = igi::apply_changes(renderer, animator(std::uint32_t(f)));
       const igi::Frame frame = renderer.render(view, std::uint32_t(f));
       char number[16];
       std::snprintf(number, sizeof number, "_%04d", f);

@@ -20,6 +20,7 @@
 #include "igi/distributed/messages.hpp"
 #include "igi/render/float_mode.hpp"
 #include "igi/render/pipeline.hpp"
+#include "igi/scene/scene_bounds.hpp"
 
 namespace igi {
 
@@ -36,6 +37,7 @@ class TileRenderer {
       : scene_(&scene),
         settings_((validate(settings), settings)),
         backend_(std::make_unique<B>(scene)),
+        bounds_(scene),
         sampler_(&sampler),
         pipeline_(*backend_, surface, brdf, filter),
         arena_(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic),
@@ -50,6 +52,7 @@ class TileRenderer {
       if (scene_->instances[std::size_t(index)].transform == transform) continue;
       backend_->set_instance_transform(index, transform);  // first: it checks, and the scene stays as it was if it throws
       scene_->instances[std::size_t(index)].transform = transform;
+      bounds_.instance_moved(*scene_, index);
       dirty_ = true;
     }
   }
@@ -62,7 +65,7 @@ class TileRenderer {
       dirty_ = false;
     }
     // The same frame set-up as Renderer::render, so tiles match single-process frames bit for bit.
-    frame_.prepare(*scene_, *backend_, *sampler_, settings_, camera_, index, tone_mapping);
+    frame_.prepare(*scene_, bounds_.bounds(), *backend_, *sampler_, settings_, camera_, index, tone_mapping);
   }
 
   /// Renders tile `tile` of the current frame into `out` (any thread; each has its own workspace).
@@ -107,6 +110,7 @@ class TileRenderer {
   Scene* scene_;
   RenderSettings settings_;
   std::unique_ptr<B> backend_;
+  SceneBounds bounds_;  ///< The scene's world bounds, updated with each change.
   const Sampler* sampler_;
   PipelineType pipeline_;
   tbb::task_arena arena_;

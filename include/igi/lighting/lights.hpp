@@ -293,8 +293,10 @@ class LightSet {
   /// The emissive triangles of every instance (world space; radiance = the material's emission
   /// factor, an emissive texture is not integrated) and the punctual lights of `scene`. Throws
   /// std::invalid_argument on a light with negative, non-finite or directionless parameters.
-  explicit LightSet(const Scene& scene) {
-    const Bounds bounds = scene.bounds();
+  explicit LightSet(const Scene& scene) : LightSet(scene, scene.bounds()) {}
+  /// LightSet(scene) with the scene's world `bounds` given (SceneBounds), sparing a walk over
+  /// every vertex; they place the lights at infinity.
+  LightSet(const Scene& scene, const Bounds& bounds) {
     for (const Instance& instance : scene.instances) {
       if (instance.mesh < 0 || std::size_t(instance.mesh) >= scene.meshes.size())
         throw std::invalid_argument("LightSet: instance '" + instance.name + "' refers to mesh " +

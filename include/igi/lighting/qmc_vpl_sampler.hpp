@@ -91,7 +91,7 @@ class QmcVplSampler {
   VplGeneration generate_with_origins(const Scene& scene, const Tracer& tracer, const VplSettings& settings,
                                       const Shader& shader) const {
     check(settings);
-    LightSet lights(scene);
+    LightSet lights(scene, settings.scene_bounds.empty() ? scene.bounds() : settings.scene_bounds);
     for (const Emitter& e : user_emitters_) lights.add(e);
     VplGeneration out;
     out.vpls.sets.resize(std::size_t(settings.sets));

@@ -62,12 +62,6 @@ inline constexpr float orbit_step = 0.04f;
 /// box's luminaire under its ceiling and its boxes on the floor.
 inline constexpr float swing_amplitude = 0.05f;
 
-/// Diagonal of the initial scene (1 for an empty scene).
-inline float diagonal(const Scene& scene) {
-  const Bounds bounds = scene.bounds();
-  return bounds.empty() ? 1.0f : glm::length(bounds.extent());
-}
-
 /// True if instance `i`'s mesh has an emissive material.
 inline bool emissive_instance(const Scene& scene, std::size_t i) {
   return scene.material_of(scene.instances[i].mesh).emissive();
@@ -101,61 +95,88 @@ inline int animated_instance(const Scene& scene) {
   return best;
 }
 
-/// Scene changes of frame `frame` of animation `kind`, from the initial scene and camera.
+/// An animation of a scene: the changes of each frame, from the initial scene and camera. What it
+/// needs of the initial scene (its diagonal and centre, the instance that moves) is found once, at
+/// construction, so a frame costs O(lights + instances), not a walk over every vertex.
 /// light: punctual lights circle horizontally (directional ones turn about +Y); a scene without
 /// punctual lights slides its emissive instances instead. camera: orbit about +Y through the
-/// scene centre. object: the animated_instance slides sideways. Throws SettingsError if the scene
-/// has nothing of that kind.
-inline SceneChanges animate(const Scene& initial, const Camera& camera, Animation kind, std::uint32_t frame) {
-  using namespace animation_detail;
-  SceneChanges changes;
-  changes.camera = camera;
-  const float angle = swing_step * float(frame);
-  const float amplitude = swing_amplitude * diagonal(initial);
-  switch (kind) {
-    case Animation::none:
-      break;
-    case Animation::camera: {
-      const glm::vec3 centre = initial.bounds().empty() ? glm::vec3(0.0f) : initial.bounds().center();
-      const glm::mat4 orbit = glm::translate(glm::mat4(1.0f), centre) *
-                              glm::rotate(glm::mat4(1.0f), orbit_step * float(frame), glm::vec3(0.0f, 1.0f, 0.0f)) *
-                              glm::translate(glm::mat4(1.0f), -centre);
-      changes.camera.camera_to_world = orbit * camera.camera_to_world;
-      break;
+/// scene centre. object: the animated_instance slides sideways.
+class Animator {
+ public:
+  /// Animation `kind` of `initial` (borrowed: it must outlive the animator) seen from `camera`;
+  /// throws SettingsError if the scene has nothing of that kind.
+  Animator(const Scene& initial, const Camera& camera, Animation kind) : initial_(&initial), camera_(camera), kind_(kind) {
+    using namespace animation_detail;
+    if (kind == Animation::none) return;
+    const Bounds bounds = initial.bounds();
+    amplitude_ = swing_amplitude * (bounds.empty() ? 1.0f : glm::length(bounds.extent()));
+    centre_ = bounds.empty() ? glm::vec3(0.0f) : bounds.center();
+    if (kind == Animation::light && initial.lights.empty()) {
+      for (std::size_t i = 0; i < initial.instances.size(); ++i)
+        if (emissive_instance(initial, i)) moving_.push_back(int(i));
+      if (moving_.empty()) throw SettingsError("--animate light: scene '" + initial.name + "' has no punctual or emissive light");
     }
-    case Animation::light: {
-      if (!initial.lights.empty()) {
-        const glm::mat3 turn(glm::rotate(glm::mat4(1.0f), angle, glm::vec3(0.0f, 1.0f, 0.0f)));
-        for (std::size_t i = 0; i < initial.lights.size(); ++i) {
-          PunctualLight light = initial.lights[i];
-          // A circle through the initial position: offset (cos a - 1, 0, sin a) is zero at frame 0.
-          light.position += amplitude * glm::vec3(std::cos(angle) - 1.0f, 0.0f, std::sin(angle));
-          if (light.kind == PunctualKind::directional) light.direction = glm::normalize(turn * light.direction);
-          changes.lights.emplace_back(int(i), light);
-        }
-        break;
-      }
-      bool any = false;
-      for (std::size_t i = 0; i < initial.instances.size(); ++i) {
-        if (!emissive_instance(initial, i)) continue;
-        const glm::mat4 slide = glm::translate(glm::mat4(1.0f), glm::vec3(amplitude * std::sin(angle), 0.0f, 0.0f));
-        changes.instances.emplace_back(int(i), slide * initial.instances[i].transform);
-        any = true;
-      }
-      if (!any) throw SettingsError("--animate light: scene '" + initial.name + "' has no punctual or emissive light");
-      break;
-    }
-    case Animation::object: {
+    if (kind == Animation::object) {
       const int instance = animated_instance(initial);
       if (instance < 0) throw SettingsError("--animate object: scene '" + initial.name + "' has no non-emissive instance");
-      const glm::mat4 slide = glm::translate(glm::mat4(1.0f), glm::vec3(amplitude * std::sin(angle), 0.0f, 0.0f));
-      changes.instances.emplace_back(instance, slide * initial.instances[std::size_t(instance)].transform);
-      break;
+      moving_.push_back(instance);
     }
   }
-  return changes;
-}
 
+  /// The scene changes of frame `frame`.
+  SceneChanges operator()(std::uint32_t frame) const {
+    using namespace animation_detail;
+    SceneChanges changes;
+    changes.camera = camera_;
+    const float angle = swing_step * float(frame);
+    switch (kind_) {
+      case Animation::none:
+        break;
+      case Animation::camera: {
+        const glm::mat4 orbit = glm::translate(glm::mat4(1.0f), centre_) *
+                                glm::rotate(glm::mat4(1.0f), orbit_step * float(frame), glm::vec3(0.0f, 1.0f, 0.0f)) *
+                                glm::translate(glm::mat4(1.0f), -centre_);
+        changes.camera.camera_to_world = orbit * camera_.camera_to_world;
+        break;
+      }
+      case Animation::light:
+        if (moving_.empty()) {
+          const glm::mat3 turn(glm::rotate(glm::mat4(1.0f), angle, glm::vec3(0.0f, 1.0f, 0.0f)));
+          for (std::size_t i = 0; i < initial_->lights.size(); ++i) {
+            PunctualLight light = initial_->lights[i];
+            // A circle through the initial position: offset (cos a - 1, 0, sin a) is zero at frame 0.
+            light.position += amplitude_ * glm::vec3(std::cos(angle) - 1.0f, 0.0f, std::sin(angle));
+            if (light.kind == PunctualKind::directional) light.direction = glm::normalize(turn * light.direction);
+            changes.lights.emplace_back(int(i), light);
+          }
+          break;
+        }
+        [[fallthrough]];  // no punctual lights: the emissive instances slide, as objects do
+      case Animation::object: {
+        const glm::mat4 slide = glm::translate(glm::mat4(1.0f), glm::vec3(amplitude_ * std::sin(angle), 0.0f, 0.0f));
+        for (const int instance : moving_)
+          changes.instances.emplace_back(instance, slide * initial_->instances[std::size_t(instance)].transform);
+        break;
+      }
+    }
+    return changes;
+  }
+
+ private:
+  const Scene* initial_;     ///< The scene as it was before frame 0.
+  Camera camera_;            ///< The camera before frame 0.
+  Animation kind_;           ///< What moves.
+  float amplitude_ = 0.0f;   ///< swing_amplitude of the initial scene's diagonal.
+  glm::vec3 centre_{0.0f};   ///< Centre of the initial scene's bounds (the camera orbit's pivot).
+  std::vector<int> moving_;  ///< Instances that slide (the object, or emissive instances of a scene without punctual lights).
+};
+
+/// Scene changes of frame `frame` of animation `kind` (one frame of Animator(initial, camera,
+/// kind); a loop over frames should keep one Animator). Throws SettingsError if the scene has
+/// nothing of that kind.
+inline SceneChanges animate(const Scene& initial, const Camera& camera, Animation kind, std::uint32_t frame) {
+  return Animator(initial, camera, kind)(frame);
+}
 
 /// Applies `changes` to an igi::Renderer (or anything with scene(), set_light and
 /// set_instance_transform) and returns the frame's camera. Only transforms that differ are set, so

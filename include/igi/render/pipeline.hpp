@@ -60,16 +60,19 @@ struct FrameState {
   FrameState& operator=(const FrameState&) = delete;  ///< The context points into this object.
 
   /// Builds frame `index` of `scene` (committed in `backend`) seen by `camera`, to be tone mapped
-  /// with `tone_mapping`: VPLs from `sampler`, clamp and ray offsets from the scene's bounds.
+  /// with `tone_mapping`: VPLs from `sampler`, clamp and ray offsets from the scene's world
+  /// `bounds` (SceneBounds keeps them without walking every vertex each frame).
   template <class B, class Sampler>
-  void prepare(const Scene& scene, const B& backend, const Sampler& sampler, const RenderSettings& settings,
-               const Camera& camera, std::uint32_t index, const ToneMapping& tone_mapping) {
+  void prepare(const Scene& scene, const Bounds& bounds, const B& backend, const Sampler& sampler,
+               const RenderSettings& settings, const Camera& camera, std::uint32_t index,
+               const ToneMapping& tone_mapping) {
     VplSettings vpl_settings;
     vpl_settings.sets = settings.interleave * settings.interleave;
     vpl_settings.vpls_per_set = settings.vpls_per_pixel;
     vpl_settings.frame = index;
     vpl_settings.seed = settings.seed;
     vpl_settings.max_bounces = settings.max_bounces;
+    vpl_settings.scene_bounds = bounds;
     {
       const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
       vpls = sampler.generate(scene, backend, vpl_settings);
@@ -82,7 +85,6 @@ struct FrameState {
     context.projection = &*projection;
     context.vpls = &vpls;
     context.settings = settings;
-    const Bounds bounds = scene.bounds();
     const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
     context.clamp_distance = resolve_clamp(settings, diagonal);
     // Ray offsets scale with the scene: 1e-5 of its diagonal plus of its distance from the origin

@@ -21,6 +21,7 @@
 
 #include "igi/render/float_mode.hpp"
 #include "igi/render/pipeline.hpp"
+#include "igi/scene/scene_bounds.hpp"
 
 namespace igi {
 
@@ -101,6 +102,7 @@ class Renderer {
       : scene_((require_geometry(scene), &scene)),
         settings_((validate(settings), settings)),
         backend_(std::make_unique<B>(scene)),
+        bounds_(scene),
         sampler_(&sampler),
         pipeline_(*backend_, surface, brdf, filter),
         arena_(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic) {}
@@ -118,7 +120,8 @@ class Renderer {
     Frame frame = Frame::blank(settings_.width, settings_.height, index);
 
     FrameState state;
-    state.prepare(*scene_, *backend_, *sampler_, settings_, camera, index, tone_mapping_ ? *tone_mapping_ : ToneMapping{});
+    state.prepare(*scene_, bounds_.bounds(), *backend_, *sampler_, settings_, camera, index,
+                  tone_mapping_ ? *tone_mapping_ : ToneMapping{});
     const FrameContext& context = state.context;
     const auto vpls_done = clock::now();
 
@@ -159,6 +162,7 @@ class Renderer {
     Instance& entry = scene_->instances.at(std::size_t(instance));
     backend_->set_instance_transform(instance, transform);  // first: it checks, and the scene stays as it was if it throws
     entry.transform = transform;
+    bounds_.instance_moved(*scene_, instance);
     dirty_ = true;
   }
   /// Replaces the vertex positions of mesh `mesh` (same count; takes effect at the next frame).
@@ -169,6 +173,7 @@ class Renderer {
                           " vertices, not " + std::to_string(positions.size()));
     backend_->set_mesh_positions(mesh, positions);  // first: it checks, and the scene stays as it was if it throws
     m.positions.assign(positions.begin(), positions.end());
+    bounds_.mesh_changed(*scene_, mesh);
     dirty_ = true;
   }
   /// Replaces punctual light `light` (lights are read afresh every frame).
@@ -198,6 +203,7 @@ class Renderer {
   Scene* scene_;
   RenderSettings settings_;
   std::unique_ptr<B> backend_;
+  SceneBounds bounds_;  ///< The scene's world bounds, updated with each change.
   const Sampler* sampler_;
   PipelineType pipeline_;
   tbb::task_arena arena_;
