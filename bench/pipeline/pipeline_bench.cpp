@@ -83,8 +83,9 @@ void frames_benchmark(benchmark::State& state, const std::string& scene_name, co
 
 /// A recorded packet laid out for Embree's packet calls, with its valid[] lanes.
 struct alignas(64) ReplayPacket {
-  RTCRayHit16 rayhit;  ///< Rays (and hit record for closest-hit queries).
-  int valid[16];       ///< -1 = trace this lane.
+  RTCRayHit16 rayhit;      ///< Rays (and hit record for closest-hit queries).
+  int valid[16];           ///< -1 = trace this lane.
+  bool coherent = true;    ///< The pipeline's hint for this packet.
 };
 
 /// A recorded single ray (the VPL sampler's).
@@ -106,6 +107,7 @@ struct Replay {
     singles_occlusion.clear();
     for (const RecordedPacket<16>& p : log.packets) {
       ReplayPacket& r = (p.query == TraceQuery::closest ? closest : occlusion).emplace_back();
+      r.coherent = p.coherence == Coherence::coherent;
       std::memcpy(&r.rayhit.ray, &p.rays, sizeof(RTCRay16));
       for (int lane = 0; lane < 16; ++lane) {
         r.rayhit.hit.geomID[lane] = r.rayhit.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
@@ -141,8 +143,8 @@ struct ReplayTimes {
   double total() const { return closest + occlusion + singles; }
 };
 
-/// Replays everything once: packets with rtcIntersect16 / rtcOccluded16 and the coherent flag
-/// (occlusion incoherent while Embree's coherent 16-wide occlusion can loop, as in
+/// Replays everything once: packets with rtcIntersect16 / rtcOccluded16 flagged with the hint the
+/// pipeline gave (occlusion incoherent while Embree's coherent 16-wide occlusion can loop, as in
 /// EmbreeBackend<16>), single rays with rtcIntersect1 / rtcOccluded1 (incoherent: one ray has
 /// nothing to share).
 /// The buffers must be fresh (Replay::reset) before each call.
@@ -155,14 +157,14 @@ ReplayTimes replay_once(Replay& replay, RTCScene scene, tbb::task_arena& arena) 
   rtcInitIntersectContext(&incoherent);
   auto start = clock_type::now();
   replay_parallel(arena, replay.closest, [&](ReplayPacket& p) {
-    RTCIntersectContext context = coherent;
+    RTCIntersectContext context = p.coherent ? coherent : incoherent;
     rtcIntersect16(p.valid, scene, &context, &p.rayhit);
   });
   t.closest = elapsed_ms(start);
   start = clock_type::now();
   replay_parallel(arena, replay.occlusion, [&](ReplayPacket& p) {
     // Flagged as EmbreeBackend<16> flags them: never the coherent kernel where it can loop.
-    RTCIntersectContext context = igi::detail::embree_coherent_occlusion16_may_loop ? incoherent : coherent;
+    RTCIntersectContext context = p.coherent && !igi::detail::embree_coherent_occlusion16_may_loop ? coherent : incoherent;
     rtcOccluded16(p.valid, scene, &context, &p.rayhit.ray);
   });
   t.occlusion = elapsed_ms(start);

@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include "igi/backends/coherence.hpp"
 #include "igi/backends/packet.hpp"
 #include "igi/scene/scene.hpp"
 
@@ -15,7 +16,8 @@ namespace igi {
 /// A backend traces packets of `width` rays against a Scene it was built from. `intersect` and
 /// `occluded` are const and safe to call from many threads at once; scene updates (instance
 /// transforms, mesh vertex positions) are made between frames and take effect at `commit()`.
-/// Lanes outside the mask are neither traced nor written (hits stay as they were).
+/// Lanes outside the mask are neither traced nor written (hits stay as they were). A `Coherence`
+/// hint may change how fast a packet is traced, never its result.
 template <class B>
 concept Backend = requires(B& backend, const B& traced, RayPacket<B::width>& rays, HitPacket<B::width>& hits,
                            RayPacket<1>& ray, HitPacket<1>& hit, const vmask<B::width>& mask, int index,
@@ -25,6 +27,8 @@ concept Backend = requires(B& backend, const B& traced, RayPacket<B::width>& ray
   requires std::constructible_from<B, const Scene&>;
   { traced.intersect(rays, hits, mask) } -> std::same_as<void>;
   { traced.occluded(rays, mask) } -> std::same_as<vmask<B::width>>;
+  { traced.intersect(rays, hits, Coherence::incoherent, mask) } -> std::same_as<void>;
+  { traced.occluded(rays, Coherence::incoherent, mask) } -> std::same_as<vmask<B::width>>;
   { traced.intersect(ray, hit, vmask<1>(true)) } -> std::same_as<void>;
   { traced.occluded(ray, vmask<1>(true)) } -> std::same_as<vmask<1>>;
   { backend.set_instance_transform(index, transform) } -> std::same_as<void>;

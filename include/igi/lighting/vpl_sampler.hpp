@@ -18,7 +18,7 @@ struct VplSettings {
   std::uint32_t frame = 0;       ///< Frame index: the randomisation of the QMC sequence.
   std::uint32_t seed = 0;        ///< User seed.
   int max_bounces = 8;           ///< Longest random walk (Russian roulette usually ends it first).
-  Bounds scene_bounds;           ///< The scene's world bounds this frame (for lights at infinity); empty: the sampler computes them.
+  Bounds scene_bounds{};         ///< The scene's world bounds this frame (for lights at infinity); empty: the sampler computes them.
 };
 
 /// A VPL sampler: `generate(scene, tracer, settings)` returns `settings.sets` sets of about

@@ -183,7 +183,7 @@ class Pipeline {
         for (int depth = 0; depth < s.max_depth && !work.levels[depth].empty(); ++depth) {
           spawn_level(frame, work, depth);
           if (work.levels[depth + 1].empty()) break;
-          trace_level(work.levels[depth + 1], out.rays.secondary);
+          trace_level(work.levels[depth + 1], Coherence::incoherent, out.rays.secondary);
           shade_level(frame, set, k, work, depth + 1, out.rays);
         }
         write_gbuffer(frame, extended, k, subsample_share, work);
@@ -213,14 +213,15 @@ class Pipeline {
                       packet.active);
       packet.throughput = vec3<W>(glm::vec3(1.0f));
     }
-    trace_level(level, counts.primary);
+    trace_level(level, Coherence::coherent, counts.primary);
   }
 
-  /// Step 2 for a whole stream.
-  void trace_level(std::vector<StreamPacket>& level, std::uint64_t& count) const {
+  /// Step 2 for a whole stream: camera rays are `coherent`, mirror and glass rays not (a curved
+  /// or bumpy surface scatters them; Embree traces such packets faster flagged incoherent).
+  void trace_level(std::vector<StreamPacket>& level, Coherence coherence, std::uint64_t& count) const {
     for (StreamPacket& packet : level) {
       packet.hits.clear();
-      backend_->intersect(packet.rays, packet.hits, packet.active);
+      backend_->intersect(packet.rays, packet.hits, coherence, packet.active);
       count += std::uint64_t(popcount(packet.active));
     }
   }
@@ -230,7 +231,8 @@ class Pipeline {
   void shade_level(const FrameContext& frame, int set, int k, Workspace& work, int depth, RayCounts& counts) const {
     auto& level = work.levels[depth];
     for (StreamPacket& packet : level) {
-      shade_surface(frame, packet, depth == 0 ? counts.primary : counts.secondary);
+      shade_surface(frame, packet, depth == 0 ? Coherence::coherent : Coherence::incoherent,
+                    depth == 0 ? counts.primary : counts.secondary);
       packet.light = {};
     }
     const std::vector<Vpl>& vpls = frame.vpls->sets[std::size_t(set)];
@@ -250,15 +252,17 @@ class Pipeline {
         // The shadow ray stops short of the VPL by the offset so it does not hit the VPL's own surface.
         const vfloat<W> length = max(geometry.distance - vfloat<W>(2.0f * frame.ray_epsilon), vfloat<W>(0.0f));
         shadow.set(origin, geometry.wi, vfloat<W>(0.0f), length, geometry.reaches);
-        const vmask<W> occluded = backend_->occluded(shadow, geometry.reaches);
+        // Shadow rays all end at one VPL: coherent, even from a mirror's scattered hit points.
+        const vmask<W> occluded = backend_->occluded(shadow, Coherence::coherent, geometry.reaches);
         counts.shadow += std::uint64_t(popcount(geometry.reaches));
         brdf_->add_vpl(packet.surface, packet.parameters, geometry, intensity, packet.light, geometry.reaches & !occluded);
       }
     }
   }
 
-  /// Step 3 for one packet: hit points, BRDF parameters, and rays continued through alpha cut-outs.
-  void shade_surface(const FrameContext& frame, StreamPacket& packet, std::uint64_t& count) const {
+  /// Step 3 for one packet: hit points, BRDF parameters, and rays continued through alpha
+  /// cut-outs (traced with the `coherence` of the packet's level).
+  void shade_surface(const FrameContext& frame, StreamPacket& packet, Coherence coherence, std::uint64_t& count) const {
     // Sponza's foliage stacks a few cut-out layers; 16 is far more than any pixel needs and bounds the loop.
     constexpr int max_cutout_layers = 16;
     packet.hit = packet.active & packet.hits.valid();
@@ -273,7 +277,7 @@ class Pipeline {
       select(pass, vfloat<W>(std::numeric_limits<float>::infinity()), t).store(packet.rays.tfar);
       for (int i = 0; i < W; ++i)
         if (pass[i]) packet.hits.geomID[i] = packet.hits.instID[i] = packet.hits.primID[i] = invalid_id;
-      backend_->intersect(packet.rays, packet.hits, pass);
+      backend_->intersect(packet.rays, packet.hits, coherence, pass);
       count += std::uint64_t(popcount(pass));
       const vmask<W> again = pass & packet.hits.valid();
       packet.hit = (packet.hit & !pass) | again;
