@@ -71,7 +71,7 @@ for i, line in enumerate(listing):
             instruction = listing[j].split(":", 1)[1].strip()
             if reads_wide(instruction):
                 places += 1
-                name = re.sub(r"PrimitiveIntersectorK = .*", "...", function_near(i))
+                name = function_near(i)
                 print(f"{address}: {line.split(':', 1)[1].strip()}  ->  {instruction}\n    in {name}")
             break
 print(f"{places} places where a narrow mask store is read back as 64 bits in {library}")

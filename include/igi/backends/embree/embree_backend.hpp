@@ -4,7 +4,8 @@
 ///
 /// Static geometry is flattened: every instance that has not moved since construction has its
 /// triangles in world space in one Embree scene, so Embree builds a single BVH over the whole
-/// static scene. (Sponza's 170 instances of 44 meshes as Embree instances overlap so much that
+/// static scene, and while every instance is flattened the rays are traced in that scene alone
+/// (one level). (Sponza's 170 instances of 44 meshes as Embree instances overlap so much that
 /// rays traced several times slower.) An instance leaves the flattened scene the first time it
 /// moves or its mesh's vertices change, and from then on is an Embree instance of a per-mesh scene
 /// (geomID = mesh index): moving it re-commits only the small top level, and changing the mesh's
@@ -230,7 +231,7 @@ class EmbreeBackend {
   template <int N>
     requires(N == W || N == 1)
   void intersect(RayPacket<N>& rays, HitPacket<N>& hits, const vmask<N>& mask) const {
-    trace_closest<N>(state_->top, rays, hits, Coherence::coherent, mask);
+    trace_closest<N>(state_->traced, rays, hits, Coherence::coherent, mask);
     remap_flattened(hits, mask);
   }
 
@@ -238,7 +239,7 @@ class EmbreeBackend {
   template <int N>
     requires(N == W || N == 1)
   void intersect(RayPacket<N>& rays, HitPacket<N>& hits, Coherence coherence, const vmask<N>& mask) const {
-    trace_closest<N>(state_->top, rays, hits, coherence, mask);
+    trace_closest<N>(state_->traced, rays, hits, coherence, mask);
     remap_flattened(hits, mask);
   }
 
@@ -246,14 +247,14 @@ class EmbreeBackend {
   template <int N>
     requires(N == W || N == 1)
   vmask<N> occluded(RayPacket<N>& rays, const vmask<N>& mask) const {
-    return trace_any<N>(state_->top, rays, Coherence::coherent, mask);
+    return trace_any<N>(state_->traced, rays, Coherence::coherent, mask);
   }
 
   /// occluded() with Embree's coherence flag chosen by the caller.
   template <int N>
     requires(N == W || N == 1)
   vmask<N> occluded(RayPacket<N>& rays, Coherence coherence, const vmask<N>& mask) const {
-    return trace_any<N>(state_->top, rays, coherence, mask);
+    return trace_any<N>(state_->traced, rays, coherence, mask);
   }
 
   /// Moves instance `index`; the top level is re-committed at commit().
@@ -335,12 +336,19 @@ class EmbreeBackend {
       check("rtcCommitScene (instances)");
       state_->top_dirty = false;
     }
+    // One level while nothing is instanced: Embree traces the flattened triangles directly, without
+    // the identity instance around them (6% of its speed in a 1 M-triangle scene, issue 17). The
+    // rays are the same either way: the identity transform leaves every coordinate as it is.
+    bool any_instanced = false;
+    for (const InstanceEntry& instance : state_->instances) any_instanced |= instance.instanced != nullptr;
+    state_->traced = any_instanced ? state_->top : state_->flat;
   }
 
   /// The Embree device, for callers who add their own Embree objects (errors still surface here).
   RTCDevice device() const noexcept { return state_->device; }
-  /// The top-level Embree scene.
-  RTCScene embree_scene() const noexcept { return state_->top; }
+  /// The Embree scene rays are traced in: the flattened scene itself while no instance is an
+  /// Embree instance, else the instance level above it.
+  RTCScene embree_scene() const noexcept { return state_->traced; }
 
   /// Throws EmbreeError if Embree recorded an error on this device since the last check; `what`
   /// names the operation in the message.
@@ -373,6 +381,7 @@ class EmbreeBackend {
     RTCDevice device = nullptr;             ///< The device.
     RTCScene top = nullptr;                 ///< Instance level: the flattened scene and the moved instances.
     RTCScene flat = nullptr;                ///< World-space triangles of the instances that never moved.
+    RTCScene traced = nullptr;              ///< What rays are traced in: `flat` while nothing is instanced, else `top`.
     RTCGeometry flat_instance = nullptr;    ///< The flattened scene's instance in the top scene.
     unsigned flat_id = 0;                   ///< Its geometry id there (after every instance index).
     std::vector<MeshEntry> meshes;          ///< One per Scene mesh.
@@ -511,12 +520,15 @@ class EmbreeBackend {
     state_->top_dirty = true;
   }
 
-  /// Hits inside the flattened scene carry (geomID = instance, instID = flat_id): rewritten to
-  /// (geomID = mesh, instID = instance) like hits through Embree instances.
+  /// Hits inside the flattened scene carry (geomID = instance, instID = flat_id), or no instID
+  /// when it is traced alone: rewritten to (geomID = mesh, instID = instance) like hits through
+  /// Embree instances.
   template <int N>
   void remap_flattened(HitPacket<N>& hits, const vmask<N>& mask) const noexcept {
+    const bool alone = state_->traced == state_->flat;
     for (int lane = 0; lane < N; ++lane)
-      if (mask[lane] && hits.instID[lane] == state_->flat_id) {
+      if (mask[lane] && hits.geomID[lane] != invalid_id &&
+          (hits.instID[lane] == state_->flat_id || (alone && hits.instID[lane] == invalid_id))) {
         const unsigned instance = hits.geomID[lane];
         hits.instID[lane] = instance;
         hits.geomID[lane] = unsigned(state_->instances[instance].mesh);
