@@ -171,6 +171,7 @@ struct FrameRun {
   std::vector<double> cpu_milliseconds;  ///< Process CPU time of each frame (all threads).
   RayCounts rays;                        ///< Rays of the last frame.
   int pixels = 0;                        ///< Pixels per frame.
+  StageTimes stages;                     ///< CPU time per stage of one more frame, rendered with profiling.
 };
 
 /// Renders one untimed warm-up frame and then options().frames timed ones (frame indices
@@ -194,6 +195,11 @@ FrameRun render_frames(R& renderer, const BenchScene& bench, bool dynamic, int f
     run.rays = frame.statistics.rays;
     run.pixels = frame.width * frame.height;
   }
+  // Where the time goes: one more frame with every stage timed (not among the timed frames: the
+  // clock reads make a frame 6-9% slower).
+  renderer.set_profiling(true);
+  run.stages = renderer.render(bench.camera, std::uint32_t(frames)).statistics.stages;
+  renderer.set_profiling(false);
   if (dynamic) {
     renderer.set_instance_transform(bench.moving_instance, original);
     renderer.render(bench.camera, 0);  // commits the restored transform
@@ -203,7 +209,8 @@ FrameRun render_frames(R& renderer, const BenchScene& bench, bool dynamic, int f
 
 /// Puts a run's medians into `state`'s counters and its manual time: ms per frame, fps, Mrays/s
 /// (total and per thread), ns per pixel, set-up ms and the ray counts by kind; the CPU time per
-/// frame, and cpu_share = CPU time / (wall time x threads), which is near 1 on an idle machine.
+/// frame, and cpu_share = CPU time / (wall time x threads), which is near 1 on an idle machine;
+/// and the profiled frame's CPU ms per pipeline stage (stage_ms_*).
 inline void report_frames(benchmark::State& state, const FrameRun& run, int threads) {
   const double ms = median(run.milliseconds);
   const double cpu_ms = median(run.cpu_milliseconds);
@@ -223,6 +230,9 @@ inline void report_frames(benchmark::State& state, const FrameRun& run, int thre
   state.counters["rays_secondary"] = double(run.rays.secondary);
   state.counters["threads"] = threads;
   state.counters["frames"] = double(run.milliseconds.size());
+  // CPU ms per stage of the profiled frame (stage_ms_total: all of them, against cpu_ms_per_frame).
+  run.stages.each([&](const char* name, std::uint64_t ns) { state.counters[std::string("stage_ms_") + name] = double(ns) * 1e-6; });
+  state.counters["stage_ms_total"] = double(run.stages.total()) * 1e-6;
 }
 
 /// Runs `body(state)` as the one iteration of a benchmark whose time is set by the body
