@@ -4,7 +4,8 @@
 //   coherent16        rtcOccluded16 with the coherent flag: the path that can loop, so it is run
 //                     only on an Embree that has the fix (and still under a watchdog);
 //   incoherent16      rtcOccluded16 with the incoherent flag;
-//   coherent8x2       two rtcOccluded8 calls with the coherent flag, one per half;
+//   coherent8x2       two rtcOccluded8 calls with the coherent flag, one per half (what
+//                     EmbreeBackend<16> does: detail::occluded16_as_halves);
 //   coherent16_avx2   rtcOccluded16 coherent on a device made with "isa=avx2" (no AVX-512 kernels).
 //
 //   occlusion16_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
@@ -93,27 +94,7 @@ std::int64_t trace(RTCScene scene, const Packets& source, std::vector<igi::RayPa
     const int* valid = source.valid[p].lane;
     auto* rays = reinterpret_cast<RTCRay16*>(&work[p]);
     if (strategy == Strategy::coherent8x2) {
-      // The halves as Embree's 8-wide layout: each field's lanes 0-7, then 8-15.
-      alignas(64) RTCRay8 half;
-      for (int h = 0; h < 2; ++h) {
-        const int base = 8 * h;
-        for (int lane = 0; lane < 8; ++lane) {
-          half.org_x[lane] = rays->org_x[base + lane];
-          half.org_y[lane] = rays->org_y[base + lane];
-          half.org_z[lane] = rays->org_z[base + lane];
-          half.tnear[lane] = rays->tnear[base + lane];
-          half.dir_x[lane] = rays->dir_x[base + lane];
-          half.dir_y[lane] = rays->dir_y[base + lane];
-          half.dir_z[lane] = rays->dir_z[base + lane];
-          half.time[lane] = rays->time[base + lane];
-          half.tfar[lane] = rays->tfar[base + lane];
-          half.mask[lane] = rays->mask[base + lane];
-          half.id[lane] = rays->id[base + lane];
-          half.flags[lane] = rays->flags[base + lane];
-        }
-        rtcOccluded8(valid + base, scene, &context, &half);
-        for (int lane = 0; lane < 8; ++lane) rays->tfar[base + lane] = half.tfar[lane];
-      }
+      igi::detail::occluded16_as_halves(valid, scene, &context, *rays);
     } else {
       rtcOccluded16(valid, scene, &context, rays);
     }

@@ -144,8 +144,8 @@ struct ReplayTimes {
 };
 
 /// Replays everything once: packets with rtcIntersect16 / rtcOccluded16 flagged with the hint the
-/// pipeline gave (occlusion incoherent while Embree's coherent 16-wide occlusion can loop, as in
-/// EmbreeBackend<16>), single rays with rtcIntersect1 / rtcOccluded1 (incoherent: one ray has
+/// pipeline gave (coherent occlusion as two 8-wide halves while Embree's coherent 16-wide
+/// occlusion can loop, as in EmbreeBackend<16>), single rays with rtcIntersect1 / rtcOccluded1 (incoherent: one ray has
 /// nothing to share).
 /// The buffers must be fresh (Replay::reset) before each call.
 ReplayTimes replay_once(Replay& replay, RTCScene scene, tbb::task_arena& arena) {
@@ -163,9 +163,13 @@ ReplayTimes replay_once(Replay& replay, RTCScene scene, tbb::task_arena& arena) 
   t.closest = elapsed_ms(start);
   start = clock_type::now();
   replay_parallel(arena, replay.occlusion, [&](ReplayPacket& p) {
-    // Flagged as EmbreeBackend<16> flags them: never the coherent kernel where it can loop.
-    RTCIntersectContext context = p.coherent && !igi::detail::embree_coherent_occlusion16_may_loop ? coherent : incoherent;
-    rtcOccluded16(p.valid, scene, &context, &p.rayhit.ray);
+    // As EmbreeBackend<16> traces them: never the coherent 16-wide kernel where it can loop, but
+    // two coherent 8-wide halves.
+    RTCIntersectContext context = p.coherent ? coherent : incoherent;
+    if (p.coherent && igi::detail::embree_coherent_occlusion16_may_loop)
+      igi::detail::occluded16_as_halves(p.valid, scene, &context, p.rayhit.ray);
+    else
+      rtcOccluded16(p.valid, scene, &context, &p.rayhit.ray);
   });
   t.occlusion = elapsed_ms(start);
   start = clock_type::now();

@@ -13,7 +13,7 @@
 /// `flatten_limit` triangles (a mesh instanced many times, like the paper's power plant),
 /// meshes used by several instances stay instanced from the start. Either way hits report
 /// geomID = mesh index and instID = instance index. Packets go to rtcIntersect1/4/8/16 and
-/// rtcOccluded1/4/8/16 (16-wide occlusion always flagged incoherent while Embree's coherent
+/// rtcOccluded1/4/8/16 (coherent 16-wide occlusion as two 8-wide calls while Embree's coherent
 /// 16-wide occlusion kernel can loop: `detail::embree_coherent_occlusion16_may_loop`); Embree
 /// errors become igi::EmbreeError carrying Embree's message.
 /// Link with the CMake target igi::embree. Embree runs much faster with denormals flushed to zero
@@ -83,9 +83,36 @@ inline const char* embree_error_name(RTCError code) noexcept {
 /// loop's source, but not the miscompile: scripts/embree_mask_scan.py finds the 16-bit store read
 /// back as 64 bits in the 16-wide occlusion kernels only (BVH4 and BVH8, robust or not), and
 /// tests/backends/embree_hang_test.cpp traces every width and kind coherently after filling the
-/// stack with ones (which makes the 16-wide coherent occlusion loop every time) and they return.
-/// So only that one kernel is avoided.
+/// stack with ones (which makes Embree's own coherent 16-wide occlusion loop every time in a
+/// two-level scene) and they return. So only that one kernel is avoided.
 inline constexpr bool embree_coherent_occlusion16_may_loop = RTC_VERSION < 40401;
+
+/// rtcOccluded16 as two rtcOccluded8 calls on the packet's halves, with the same `context`: the
+/// coherent 8-wide kernel does not loop where the 16-wide one can. Blocked lanes get tfar = -inf,
+/// as rtcOccluded16 gives them.
+inline void occluded16_as_halves(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRay16& rays) {
+  for (int base = 0; base < 16; base += 8) {
+    alignas(32) RTCRay8 half;
+    alignas(32) int half_valid[8];  // Embree loads valid[] with aligned vector loads
+    for (int lane = 0; lane < 8; ++lane) {
+      half_valid[lane] = valid[base + lane];
+      half.org_x[lane] = rays.org_x[base + lane];
+      half.org_y[lane] = rays.org_y[base + lane];
+      half.org_z[lane] = rays.org_z[base + lane];
+      half.tnear[lane] = rays.tnear[base + lane];
+      half.dir_x[lane] = rays.dir_x[base + lane];
+      half.dir_y[lane] = rays.dir_y[base + lane];
+      half.dir_z[lane] = rays.dir_z[base + lane];
+      half.time[lane] = rays.time[base + lane];
+      half.tfar[lane] = rays.tfar[base + lane];
+      half.mask[lane] = rays.mask[base + lane];
+      half.id[lane] = rays.id[base + lane];
+      half.flags[lane] = rays.flags[base + lane];
+    }
+    rtcOccluded8(half_valid, scene, context, &half);
+    for (int lane = 0; lane < 8; ++lane) rays.tfar[base + lane] = half.tfar[lane];
+  }
+}
 
 /// Embree's packet types for each width.
 template <int W>
@@ -337,8 +364,8 @@ class EmbreeBackend {
       state_->top_dirty = false;
     }
     // One level while nothing is instanced: Embree traces the flattened triangles directly, without
-    // the identity instance around them (6% of its speed in a 1 M-triangle scene, issue 17). The
-    // rays are the same either way: the identity transform leaves every coordinate as it is.
+    // the identity instance around them (Cornell's camera rays 17% faster, Sponza's 6%). The rays
+    // and hits are the same either way: the identity transform leaves every coordinate as it is.
     bool any_instanced = false;
     for (const InstanceEntry& instance : state_->instances) any_instanced |= instance.instanced != nullptr;
     state_->traced = any_instanced ? state_->top : state_->flat;
@@ -626,13 +653,14 @@ class EmbreeBackend {
   static vmask<N> trace_any(RTCScene top, RayPacket<N>& rays, Coherence coherence, const vmask<N>& mask) {
     using EmbreeRay = typename detail::EmbreePacketTypes<N>::Ray;
     // Never Embree's coherent 16-wide occlusion kernel where it can loop forever (see
-    // detail::embree_coherent_occlusion16_may_loop). Of the ways around it, the incoherent flag
-    // was fastest on the Cornell box (1.6x two coherent 8-wide halves, 1.7x a device made with
-    // "isa=avx2") and on a million-triangle terrain (1.02x), 8% slower on Sponza
-    // (bench/backends/occlusion16_bench.cpp, bench/README.md). The AVX2 device is no way out in
-    // any case: it traces 16-wide packets as Embree's ray stream, which ignores valid[]
-    // (rtcore.cpp, rtcOccluded16) and asserts that inactive lanes hold finite rays.
-    if constexpr (N == 16 && detail::embree_coherent_occlusion16_may_loop) coherence = Coherence::incoherent;
+    // detail::embree_coherent_occlusion16_may_loop): coherent packets go as two coherent 8-wide
+    // halves. Of the ways around it (bench/backends/occlusion16_bench.cpp, bench/README.md),
+    // the halves were fastest on Sponza (1.17x the incoherent flag) and a million-triangle
+    // terrain (1.02x), the incoherent flag on the 36-triangle Cornell box (1.38x the halves); on
+    // whole frames the halves make Sponza_lit 2-5% faster and Cornell 5% slower. A device made
+    // with "isa=avx2" is no way out: it traces 16-wide packets as Embree's ray stream, which
+    // ignores valid[] (rtcore.cpp, rtcOccluded16) and asserts that inactive lanes hold finite rays.
+    constexpr bool split = N == 16 && detail::embree_coherent_occlusion16_may_loop;
     RTCIntersectContext ctx = context<N>(coherence);
     const ValidLanes<N> valid = valid_lanes(rays, mask);
     // Occlusion needs no hit record: Embree reads and writes the packet in place.
@@ -643,6 +671,8 @@ class EmbreeBackend {
       rtcOccluded4(valid.data(), top, &ctx, embree_rays);
     } else if constexpr (N == 8) {
       rtcOccluded8(valid.data(), top, &ctx, embree_rays);
+    } else if (split && coherence == Coherence::coherent) {
+      detail::occluded16_as_halves(valid.data(), top, &ctx, *embree_rays);
     } else {
       rtcOccluded16(valid.data(), top, &ctx, embree_rays);
     }
