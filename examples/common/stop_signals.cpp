@@ -35,9 +35,8 @@ void watch(std::chrono::milliseconds grace) {
   received.store(signal);
   const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(grace);
   timespec remaining{time_t(seconds.count()), long(std::chrono::nanoseconds(grace - seconds).count())};
-  // A second signal ends the process at once; an interrupted wait goes on with the time left
-  // (sigtimedwait does not update it, so the wait restarts in full: a stop can take at most one
-  // more grace period per unrelated interruption, which nothing here causes).
+  // A second signal ends the process at once; a wait interrupted otherwise (EINTR, which
+  // nothing here causes) starts again.
   for (;;) {
     const int second = sigtimedwait(&set, nullptr, &remaining);
     if (second > 0 || errno == EAGAIN) break;

@@ -57,42 +57,29 @@ int trace_coherent_in(const igi::Scene& scene, const igi::EmbreeBackend<W>& back
     igi::HitPacket<W> hits;
     hits.clear();
     const igi::vmask<W> all(true);
+    igi::vec3<W> direction;
     for (int lane = 0; lane < W; ++lane) {
       const int pixel = first + lane;
-      const glm::vec3 origin = projection.origin();
-      const glm::vec3 direction = projection.direction(float(pixel % width) + 0.5f, float(pixel / width) + 0.5f);
-      rays.org_x[lane] = origin.x;
-      rays.org_y[lane] = origin.y;
-      rays.org_z[lane] = origin.z;
-      rays.dir_x[lane] = direction.x;
-      rays.dir_y[lane] = direction.y;
-      rays.dir_z[lane] = direction.z;
-      rays.tnear[lane] = 0.0f;
-      rays.tfar[lane] = std::numeric_limits<float>::infinity();
-      rays.time[lane] = 0.0f;
-      rays.mask[lane] = igi::invalid_id;
-      rays.id[lane] = unsigned(lane);
-      rays.flags[lane] = 0;
+      direction.set(lane, projection.direction(float(pixel % width) + 0.5f, float(pixel / width) + 0.5f));
     }
+    rays.set(igi::vec3<W>(projection.origin()), direction, igi::vfloat<W>(0.0f),
+             igi::vfloat<W>(std::numeric_limits<float>::infinity()), all);
     fill_stack_with_ones();
     backend.intersect(rays, hits, igi::Coherence::coherent, all);
-    igi::vmask<W> found(false);
+    const igi::vmask<W> found = hits.valid();
+    igi::vec3<W> origin, to_light;
+    igi::vfloat<W> near(0.0f), far(0.0f);
     for (int lane = 0; lane < W; ++lane) {
-      if (hits.geomID[lane] == igi::invalid_id) continue;
-      found.set(lane, true);
-      const glm::vec3 point = glm::vec3(rays.org_x[lane], rays.org_y[lane], rays.org_z[lane]) +
-                              rays.tfar[lane] * glm::vec3(rays.dir_x[lane], rays.dir_y[lane], rays.dir_z[lane]);
-      const glm::vec3 to_light = light - point;
-      const float distance = std::max(glm::length(to_light), offset);
-      rays.org_x[lane] = point.x;
-      rays.org_y[lane] = point.y;
-      rays.org_z[lane] = point.z;
-      rays.dir_x[lane] = to_light.x;
-      rays.dir_y[lane] = to_light.y;
-      rays.dir_z[lane] = to_light.z;
-      rays.tnear[lane] = offset / distance;
-      rays.tfar[lane] = 1.0f - offset / distance;
+      if (!found[lane]) continue;
+      const glm::vec3 point = rays.origin()[lane] + rays.tfar[lane] * rays.direction()[lane];
+      const glm::vec3 towards = light - point;
+      const float distance = std::max(glm::length(towards), offset);
+      origin.set(lane, point);
+      to_light.set(lane, towards);
+      near.set(lane, offset / distance);
+      far.set(lane, 1.0f - offset / distance);
     }
+    rays.set(origin, to_light, near, far, found);
     fill_stack_with_ones();
     const igi::vmask<W> occluded = backend.occluded(rays, igi::Coherence::coherent, found);
     for (int lane = 0; lane < W; ++lane) blocked += occluded[lane];

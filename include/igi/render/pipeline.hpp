@@ -13,11 +13,13 @@
 /// Then the filter reconstructs irradiance, radiance is composed, luminance statistics recorded,
 /// and pixels tone mapped with the previous frame's parameters.
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -132,32 +134,34 @@ struct StageTimes {
   std::uint64_t compose = 0;  ///< Radiance composed, luminance recorded, pixels tone mapped.
   /// Adds another tile's times.
   void merge(const StageTimes& o) noexcept {
-    primary += o.primary;
-    closest += o.closest;
-    surface += o.surface;
-    connect += o.connect;
-    shadow += o.shadow;
-    spawn += o.spawn;
-    gbuffer += o.gbuffer;
-    filter += o.filter;
-    compose += o.compose;
+    for (const auto& [name, field] : fields()) this->*field += o.*field;
   }
   /// All stages.
   std::uint64_t total() const noexcept {
-    return primary + closest + surface + connect + shadow + spawn + gbuffer + filter + compose;
+    std::uint64_t sum = 0;
+    for (const auto& [name, field] : fields()) sum += this->*field;
+    return sum;
   }
   /// Calls `visit(name, nanoseconds)` for each stage in pipeline order, for reports.
   template <class Visit>
   void each(Visit&& visit) const {
-    visit("primary", primary);
-    visit("closest", closest);
-    visit("surface", surface);
-    visit("connect", connect);
-    visit("shadow", shadow);
-    visit("spawn", spawn);
-    visit("gbuffer", gbuffer);
-    visit("filter", filter);
-    visit("compose", compose);
+    for (const auto& [name, field] : fields()) visit(name, this->*field);
+  }
+
+ private:
+  /// A stage's name and its field.
+  using Field = std::pair<const char*, std::uint64_t StageTimes::*>;
+  /// The stages by name, in pipeline order: the one list merge, total and each walk.
+  static constexpr std::array<Field, 9> fields() noexcept {
+    return {{{"primary", &StageTimes::primary},
+             {"closest", &StageTimes::closest},
+             {"surface", &StageTimes::surface},
+             {"connect", &StageTimes::connect},
+             {"shadow", &StageTimes::shadow},
+             {"spawn", &StageTimes::spawn},
+             {"gbuffer", &StageTimes::gbuffer},
+             {"filter", &StageTimes::filter},
+             {"compose", &StageTimes::compose}}};
   }
 };
 
@@ -272,24 +276,25 @@ class Pipeline {
   void trace_primary(const FrameContext& frame, int k, Workspace& work, RayCounts& counts) const {
     ensure_levels(work, frame.settings.max_depth + 1);
     auto& level = work.levels[0];
-    std::optional<StageTimer> timer(std::in_place, work.timing(&StageTimes::primary));
-    level.resize(work.pixels.size());
-    float dx = 0.5f, dy = 0.5f;
-    subsample_offset(k, frame.settings.antialiasing, dx, dy);
-    const glm::vec3 eye = frame.projection->origin();
-    for (std::size_t p = 0; p < work.pixels.size(); ++p) {
-      const PixelPacket<W>& pixels = work.pixels[p];
-      StreamPacket& packet = level[p];
-      packet.pixels = int(p);
-      packet.active = vmask<W>::first(pixels.count);
-      const vfloat<W> px([&](int i) { return i < pixels.count ? float(pixels.x[i]) + dx : 0.0f; });
-      const vfloat<W> py([&](int i) { return i < pixels.count ? float(pixels.y[i]) + dy : 0.0f; });
-      const vec3<W> direction = keep(frame.projection->direction(px, py), packet.active);
-      packet.rays.set(vec3<W>(eye), direction, vfloat<W>(0.0f), vfloat<W>(std::numeric_limits<float>::infinity()),
-                      packet.active);
-      packet.throughput = vec3<W>(glm::vec3(1.0f));
+    {
+      const StageTimer timer(work.timing(&StageTimes::primary));
+      level.resize(work.pixels.size());
+      float dx = 0.5f, dy = 0.5f;
+      subsample_offset(k, frame.settings.antialiasing, dx, dy);
+      const glm::vec3 eye = frame.projection->origin();
+      for (std::size_t p = 0; p < work.pixels.size(); ++p) {
+        const PixelPacket<W>& pixels = work.pixels[p];
+        StreamPacket& packet = level[p];
+        packet.pixels = int(p);
+        packet.active = vmask<W>::first(pixels.count);
+        const vfloat<W> px([&](int i) { return i < pixels.count ? float(pixels.x[i]) + dx : 0.0f; });
+        const vfloat<W> py([&](int i) { return i < pixels.count ? float(pixels.y[i]) + dy : 0.0f; });
+        const vec3<W> direction = keep(frame.projection->direction(px, py), packet.active);
+        packet.rays.set(vec3<W>(eye), direction, vfloat<W>(0.0f), vfloat<W>(std::numeric_limits<float>::infinity()),
+                        packet.active);
+        packet.throughput = vec3<W>(glm::vec3(1.0f));
+      }
     }
-    timer.reset();
     trace_level(work, level, Coherence::coherent, counts.primary);
   }
 
