@@ -196,7 +196,7 @@ FrameRun render_frames(R& renderer, const BenchScene& bench, bool dynamic, int f
     run.pixels = frame.width * frame.height;
   }
   // Where the time goes: one more frame with every stage timed (not among the timed frames: the
-  // clock reads make a frame 6-9% slower).
+  // clock reads make a frame 2-9% slower).
   renderer.set_profiling(true);
   run.stages = renderer.render(bench.camera, std::uint32_t(frames)).statistics.stages;
   renderer.set_profiling(false);

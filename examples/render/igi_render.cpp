@@ -205,7 +205,7 @@ int main(int argc, char** argv) {
       .show_default();
   command_line.flag("--profile", options.profile,
                     "time each pipeline stage; --stats json then reports the last frame's CPU ms per stage as "
-                    "stage_cpu_ms (the clock reads make the frames 6-9% slower)");
+                    "stage_cpu_ms (the clock reads make the frames 2-9% slower)");
   if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
     check_render_options(options);

@@ -48,7 +48,7 @@ struct FrameContext {
   float clamp_distance = 0.0f;        ///< Resolved minimum VPL distance.
   float ray_epsilon = 1e-4f;          ///< Offset of secondary and shadow ray origins off surfaces.
   ToneMapping tone_mapping;           ///< Parameters from the previous frame.
-  bool profile = false;               ///< Time each stage into TileResult::stages (6-9% slower frames).
+  bool profile = false;               ///< Time each stage into TileResult::stages (2-9% slower frames).
 };
 
 /// What a frame's tiles share, built once per frame by `prepare`: the VPL sets, the instance

@@ -182,7 +182,7 @@ class Renderer {
   /// Replaces punctual light `light` (lights are read afresh every frame).
   void set_light(int light, const PunctualLight& value) { scene_->lights.at(std::size_t(light)) = value; }
   /// Times every pipeline stage of the following frames into FrameStatistics::stages (off by
-  /// default: the clock reads around each packet's queries made Cornell and Sponza_lit frames 6-9% slower).
+  /// default: the clock reads around each packet's queries made Cornell and Sponza_lit frames 2-9% slower).
   void set_profiling(bool on) noexcept { profiling_ = on; }
   /// Forgets the tone-mapping history, as after a cut.
   void reset_tone_mapping() noexcept { tone_mapping_.reset(); }
