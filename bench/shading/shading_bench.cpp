@@ -66,7 +66,8 @@ SceneFrame* scene_frame_of(const std::string& name, std::string& why) {
   made->scene = &loaded->scene;
   made->settings = view_settings();
   const EmbreeBackend<16> backend(loaded->scene);  // VPL walks trace single rays: any backend gives the same VPLs
-  made->frame.prepare(loaded->scene, loaded->scene.bounds(), backend, QmcVplSampler{}, made->settings, loaded->camera, 0, ToneMapping{});
+  made->frame.prepare(loaded->scene, loaded->scene.bounds(), backend, GltfMaterialShader(loaded->scene), StandardBrdf{},
+                      QmcVplSampler{}, made->settings, loaded->camera, 0, ToneMapping{});
   return (cache[name] = std::move(made)).get();
 }
 
@@ -96,7 +97,7 @@ std::unique_ptr<ShadingPoints<B>> make_points(const SceneFrame& scene_frame) {
   constexpr int W = B::width;
   auto points = std::make_unique<ShadingPoints<B>>();
   const Scene& scene = *scene_frame.scene;
-  const FrameContext& context = scene_frame.frame.context;
+  const FrameState& context = scene_frame.frame;
   const RenderSettings& s = scene_frame.settings;
   points->backend = std::make_unique<B>(scene);
   const GltfMaterialShader surface(scene);
@@ -117,12 +118,12 @@ std::unique_ptr<ShadingPoints<B>> make_points(const SceneFrame& scene_frame) {
         hits.clear();
         points->backend->intersect(rays, hits, active);
         const vmask<W> hit = active & hits.valid();
-        points->surfaces.push_back(make_surface_hit(scene, *context.geometry, rays, hits, hit));
+        points->surfaces.push_back(make_surface_hit(scene, context.geometry, rays, hits, hit));
         points->parameters.push_back(surface.shade(points->surfaces.back(), hit));
         points->hit.push_back(hit);
         points->hit_points += popcount(hit);
         points->samples += std::int64_t(popcount(hit)) *
-                           std::int64_t(context.vpls->sets[std::size_t(set)].size());
+                           std::int64_t(context.vpls.sets[std::size_t(set)].size());
       }
       group.end = points->surfaces.size();
       points->groups.push_back(group);
@@ -161,12 +162,12 @@ std::map<std::string, double>& single_ray_rates() {
 /// One pass of the pipeline's VPL step over all hit points: for each (tile, set) stream, for each
 /// of the set's VPLs, for each packet: connect, shadow ray (if `shadows`), BRDF contribution.
 template <class B>
-void shade_all(const ShadingPoints<B>& points, const FrameContext& context, const StandardBrdf& brdf, bool shadows,
+void shade_all(const ShadingPoints<B>& points, const FrameState& context, const StandardBrdf& brdf, bool shadows,
                std::vector<VplAccumulator<B::width>>& light) {
   constexpr int W = B::width;
   for (const auto& group : points.groups) {
     light.assign(group.end - group.begin, VplAccumulator<W>{});
-    for (const Vpl& vpl : context.vpls->sets[std::size_t(group.set)]) {
+    for (const Vpl& vpl : context.vpls.sets[std::size_t(group.set)]) {
       for (std::size_t p = group.begin; p < group.end; ++p) {
         const SurfaceHit<W>& surface = points.surfaces[p];
         if (none(points.hit[p])) continue;
@@ -203,7 +204,7 @@ void shading(benchmark::State& state, const std::string& scene_name, bool shadow
   const StandardBrdf brdf;
   std::vector<VplAccumulator<B::width>> light;
   const double start = thread_cpu_seconds();
-  for (auto _ : state) shade_all(points, scene_frame->frame.context, brdf, shadows, light);
+  for (auto _ : state) shade_all(points, scene_frame->frame, brdf, shadows, light);
   const double seconds = thread_cpu_seconds() - start;
   state.SetItemsProcessed(state.iterations() * points.samples);
   state.counters["hit_points"] = double(points.hit_points);

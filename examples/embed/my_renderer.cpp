@@ -68,10 +68,9 @@ struct BallLamp {
 
 int main(int argc, char** argv) try {
   igi::Scene scene{.name = "my scene"};
-  // The VPL random walks bounce off these material colours (the floor's is its mean).
-  scene.materials = {{.name = "floor", .base_color = glm::vec4(0.5f), .metallic = 0.0f},
-                     {.name = "red", .base_color = {0.7f, 0.1f, 0.08f, 1.0f}, .metallic = 0.0f},
-                     {.name = "white", .base_color = glm::vec4(0.8f), .metallic = 0.0f}};
+  // Materials only name the surfaces here: MySurface gives their colours, to the camera and to the
+  // VPL random walks alike (the light bouncing off the chequered floor is chequered too).
+  scene.materials = {{.name = "floor"}, {.name = "red"}, {.name = "white"}};
   add_box(scene, {0.0f, -0.01f, 0.0f}, {1.0f, 0.01f, 1.0f}, 0);     // floor slab
   add_box(scene, {0.0f, 0.5f, -0.6f}, {1.0f, 0.5f, 0.01f}, 2);      // back wall
   add_box(scene, {-0.3f, 0.15f, 0.0f}, {0.15f, 0.15f, 0.15f}, 1);   // red cube

@@ -77,13 +77,8 @@ Mesh box_mesh(const std::string& name, const glm::vec3& lower, const glm::vec3& 
 double clamp_bound(const Scene& scene, const RenderSettings& settings, std::uint32_t frame, float clamp,
                    float max_albedo, float max_glossy_lobe) {
   const EmbreeBackend<8> backend(scene);
-  VplSettings vpl_settings;
-  vpl_settings.sets = settings.interleave * settings.interleave;
-  vpl_settings.vpls_per_set = settings.vpls_per_pixel;
-  vpl_settings.frame = frame;
-  vpl_settings.seed = settings.seed;
-  vpl_settings.max_bounces = settings.max_bounces;
-  const VplSets vpls = QmcVplSampler().generate(scene, backend, vpl_settings);
+  const VplSets vpls =
+      QmcVplSampler().generate(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, vpl_settings_for(settings, frame));
   double largest_set = 0.0;
   for (const std::vector<Vpl>& set : vpls.sets) {
     double sum = 0.0;

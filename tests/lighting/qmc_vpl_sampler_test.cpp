@@ -11,6 +11,8 @@
 #include "igi/backends/reference/reference_backend.hpp"
 #include "igi/lighting/qmc_vpl_sampler.hpp"
 #include "igi/scene/gltf.hpp"
+#include "igi/shading/brdf_shaders.hpp"
+#include "igi/shading/gltf_material_shader.hpp"
 #include "igi/shading/procedural_shaders.hpp"
 #include "scenes.hpp"
 #include "test_scenes.hpp"
@@ -47,8 +49,8 @@ bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y
 }  // namespace
 
 TEST_CASE("QmcVplSampler: satisfies the VplSampler concept", "[lighting][vpl]") {
-  STATIC_REQUIRE(VplSampler<QmcVplSampler, ReferenceBackend<4>>);
-  STATIC_REQUIRE(VplSampler<QmcVplSampler, ReferenceBackend<16>>);
+  STATIC_REQUIRE(VplSampler<QmcVplSampler, ReferenceBackend<4>, GltfMaterialShader, StandardBrdf>);
+  STATIC_REQUIRE(VplSampler<QmcVplSampler, ReferenceBackend<16>, ConstantDiffuseShader, LambertBrdf>);
 }
 
 TEST_CASE("QmcVplSampler: closed box - light VPLs first, each set carries the light's power, first bounce power x albedo",
@@ -58,7 +60,7 @@ TEST_CASE("QmcVplSampler: closed box - light VPLs first, each set carries the li
   const ReferenceBackend<4> backend(scene);
   const double power = (1.0 + 0.8 + 0.6) / 3.0 * 0.04 * double(pi);  // mean radiance x area x pi
   const VplSettings settings{.sets = 9, .vpls_per_set = 1000, .frame = 3, .seed = 11};
-  const VplGeneration g = QmcVplSampler{}.generate_with_origins(scene, backend, settings, GltfMaterialShader(scene));
+  const VplGeneration g = QmcVplSampler{}.generate_with_origins(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, settings);
   REQUIRE(g.vpls.sets.size() == 9);
   // A walk leaves 1 + 1 / (1 - rho) = 3 VPLs in a closed box (light, then a geometric number of
   // bounces); the 256-walk pilot measures that with a standard error of about 1.4 / 16 = 9%
@@ -109,7 +111,7 @@ TEST_CASE("QmcVplSampler: point light in a cube of six albedos - first bounce = 
                           .position = glm::vec3(0.5f)});
   const ReferenceBackend<4> backend(scene);
   const VplSettings settings{.sets = 9, .vpls_per_set = 400, .frame = 0, .seed = 1};
-  const VplGeneration g = QmcVplSampler{}.generate_with_origins(scene, backend, settings, GltfMaterialShader(scene));
+  const VplGeneration g = QmcVplSampler{}.generate_with_origins(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, settings);
   const double power = 4.0 * double(pi) * 2.0;
   double mean_albedo = 0.0, variance = 0.0;
   for (const float a : albedo) mean_albedo += a / 6.0;
@@ -137,7 +139,7 @@ TEST_CASE("QmcVplSampler: directional light - disc particles that hit the floor 
                           .direction = {0, -1, 0}});
   const ReferenceBackend<4> backend(scene);
   const VplSettings settings{.sets = 9, .vpls_per_set = 400, .frame = 2, .seed = 0};
-  const VplGeneration g = QmcVplSampler{}.generate_with_origins(scene, backend, settings, GltfMaterialShader(scene));
+  const VplGeneration g = QmcVplSampler{}.generate_with_origins(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, settings);
   for (std::size_t s = 0; s < 9; ++s) {
     // The light VPLs are directional and share the irradiance: their sum per set is E.
     double irradiance = 0.0;
@@ -167,14 +169,14 @@ TEST_CASE("QmcVplSampler: Cornell box - deterministic, frame- and seed-dependent
   const ReferenceBackend<8> backend(scene);
   const QmcVplSampler sampler;
   const VplSettings settings{.sets = 9, .vpls_per_set = 16, .frame = 5, .seed = 42};
-  const VplSets a = sampler.generate(scene, backend, settings);
-  const VplSets b = sampler.generate(scene, backend, settings);
+  const VplSets a = sampler.generate(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, settings);
+  const VplSets b = sampler.generate(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, settings);
   VplSettings next_frame = settings;
   next_frame.frame = 6;
   VplSettings other_seed = settings;
   other_seed.seed = 43;
-  const VplSets c = sampler.generate(scene, backend, next_frame);
-  const VplSets d = sampler.generate(scene, backend, other_seed);
+  const VplSets c = sampler.generate(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, next_frame);
+  const VplSets d = sampler.generate(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, other_seed);
   REQUIRE(a.sets.size() == 9);
   std::size_t total = 0;
   for (std::size_t s = 0; s < 9; ++s) {
@@ -224,8 +226,7 @@ TEST_CASE("QmcVplSampler: every set has the same expected power", "[lighting][vp
   const int frames = 24;
   std::vector<std::vector<double>> per_set(9);
   for (int f = 0; f < frames; ++f) {
-    const VplGeneration g = sampler.generate_with_origins(
-        scene, backend, {.sets = 9, .vpls_per_set = 32, .frame = std::uint32_t(f), .seed = 7}, GltfMaterialShader(scene));
+    const VplGeneration g = sampler.generate_with_origins(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, {.sets = 9, .vpls_per_set = 32, .frame = std::uint32_t(f), .seed = 7});
     for (std::size_t s = 0; s < 9; ++s) {
       // The emitted power is the same in every set exactly; the bounced power varies.
       CHECK(set_flux(g, s, 0) == Approx(set_flux(g, 0, 0)).epsilon(1e-4));
@@ -269,18 +270,18 @@ TEST_CASE("QmcVplSampler: user emitters, no lights, bad settings", "[lighting][v
   QmcVplSampler sampler;
   const VplSettings settings{.sets = 4, .vpls_per_set = 20};
   // No lights: empty sets, not an error.
-  const VplSets empty = sampler.generate(scene, backend, settings);
+  const VplSets empty = sampler.generate(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, settings);
   REQUIRE(empty.sets.size() == 4);
   for (const auto& set : empty.sets) CHECK(set.empty());
   sampler.add_emitter(LightBar{});
-  const VplGeneration g = sampler.generate_with_origins(scene, backend, settings, ConstantDiffuseShader(glm::vec3(0.5f)));
+  const VplGeneration g = sampler.generate_with_origins(scene, backend, ConstantDiffuseShader(glm::vec3(0.5f)), StandardBrdf{}, settings);
   for (std::size_t s = 0; s < 4; ++s) {
     CHECK(set_flux(g, s, 0) == Approx(3.0).epsilon(1e-4));
     CHECK(set_flux(g, s, 1) == Approx(1.5).epsilon(1e-4));  // the floor below, albedo 0.5
   }
-  CHECK_THROWS_WITH(sampler.generate(scene, backend, {.sets = 0}), Catch::Contains("sets"));
-  CHECK_THROWS_WITH(sampler.generate(scene, backend, {.vpls_per_set = 0}), Catch::Contains("vpls_per_set"));
-  CHECK_THROWS_WITH(sampler.generate(scene, backend, {.max_bounces = -1}), Catch::Contains("max_bounces"));
+  CHECK_THROWS_WITH(sampler.generate(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, {.sets = 0}), Catch::Contains("sets"));
+  CHECK_THROWS_WITH(sampler.generate(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, {.vpls_per_set = 0}), Catch::Contains("vpls_per_set"));
+  CHECK_THROWS_WITH(sampler.generate(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, {.max_bounces = -1}), Catch::Contains("max_bounces"));
 }
 
 TEST_CASE("QmcVplSampler: closed emitting box - the VPL sum is the analytic irradiance pi Le / (1 - rho)",
@@ -299,7 +300,7 @@ TEST_CASE("QmcVplSampler: closed emitting box - the VPL sum is the analytic irra
   std::vector<double> estimates;
   for (int seed = 0; seed < seeds; ++seed) {
     const VplSets vpls =
-        QmcVplSampler{}.generate(scene, backend, {.sets = 9, .vpls_per_set = 200, .seed = std::uint32_t(seed), .max_bounces = 20});
+        QmcVplSampler{}.generate(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, {.sets = 9, .vpls_per_set = 200, .seed = std::uint32_t(seed), .max_bounces = 20});
     double irradiance = 0.0;
     for (const auto& set : vpls.sets)
       for (const Vpl& v : set) {
@@ -325,8 +326,7 @@ TEST_CASE("QmcVplSampler: Sponza_lit - sun and lamp VPLs, finite, about M per se
   IGI_REQUIRE_SCENE(path);
   const Scene scene = load_gltf(path);
   const ReferenceBackend<8> backend(scene);
-  const VplGeneration g = QmcVplSampler{}.generate_with_origins(scene, backend, {.sets = 9, .vpls_per_set = 16, .frame = 1},
-                                                                GltfMaterialShader(scene));
+  const VplGeneration g = QmcVplSampler{}.generate_with_origins(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, {.sets = 9, .vpls_per_set = 16, .frame = 1});
   std::size_t total = 0, directional = 0, omni = 0;
   for (std::size_t s = 0; s < 9; ++s) {
     total += g.vpls.sets[s].size();
@@ -359,8 +359,7 @@ TEST_CASE("QmcVplSampler: particles pass through alpha cut-outs", "[lighting][vp
   scene.materials[std::size_t(sheet)].alpha_mode = AlphaMode::mask;
   testing::add_quad(scene, {0.5f, 0.5f, 0.5f}, {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 0.45f, sheet);
   const ReferenceBackend<4> backend(scene);
-  const VplGeneration g = QmcVplSampler{}.generate_with_origins(scene, backend, {.sets = 4, .vpls_per_set = 64},
-                                                                GltfMaterialShader(scene));
+  const VplGeneration g = QmcVplSampler{}.generate_with_origins(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, {.sets = 4, .vpls_per_set = 64});
   const double power = 0.04 * double(pi);
   for (std::size_t s = 0; s < 4; ++s) {
     CHECK(set_flux(g, s, 1) == Approx(power * rho).epsilon(1e-4));

@@ -47,8 +47,8 @@
 #include "igi/lighting/lights.hpp"
 #include "igi/lighting/vpl_sampler.hpp"
 #include "igi/scene/scene.hpp"
-#include "igi/shading/brdf_shaders.hpp"
-#include "igi/shading/gltf_material_shader.hpp"
+#include "igi/shading/brdf_shader.hpp"
+#include "igi/shading/constants.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 #include "igi/shading/surface_shader.hpp"
 #include "igi/simd/sampling.hpp"
@@ -78,18 +78,20 @@ class QmcVplSampler {
   /// Adds a user-defined emitter, lit along with the scene's lights in every frame.
   void add_emitter(Emitter emitter) { user_emitters_.push_back(std::move(emitter)); }
 
-  /// The frame's VPL sets, hits shaded with the scene's glTF materials.
-  template <class Tracer>
-  VplSets generate(const Scene& scene, const Tracer& tracer, const VplSettings& settings) const {
-    return generate_with_origins(scene, tracer, settings, GltfMaterialShader(scene)).vpls;
+  /// The frame's VPL sets; `shader` gives the albedo of hit surfaces, `brdf` their mirror and
+  /// glass lobes (the frame's own policies, so bounce light has the colours the camera sees).
+  template <class Tracer, class Shader, class Brdf>
+    requires SurfaceShader<Shader, 1> && BrdfShader<Brdf, 1>
+  VplSets generate(const Scene& scene, const Tracer& tracer, const Shader& shader, const Brdf& brdf,
+                   const VplSettings& settings) const {
+    return generate_with_origins(scene, tracer, shader, brdf, settings).vpls;
   }
 
-  /// The frame's VPL sets and where each came from; `shader` (a SurfaceShader at width 1) gives
-  /// the albedo, mirror and glass weights of hit surfaces. Throws std::invalid_argument on bad settings.
-  template <class Tracer, class Shader>
-    requires SurfaceShader<Shader, 1>
-  VplGeneration generate_with_origins(const Scene& scene, const Tracer& tracer, const VplSettings& settings,
-                                      const Shader& shader) const {
+  /// The frame's VPL sets and where each came from, as generate. Throws std::invalid_argument on bad settings.
+  template <class Tracer, class Shader, class Brdf>
+    requires SurfaceShader<Shader, 1> && BrdfShader<Brdf, 1>
+  VplGeneration generate_with_origins(const Scene& scene, const Tracer& tracer, const Shader& shader, const Brdf& brdf,
+                                      const VplSettings& settings) const {
     check(settings);
     LightSet lights(scene, settings.scene_bounds.empty() ? scene.bounds() : settings.scene_bounds);
     for (const Emitter& e : user_emitters_) lights.add(e);
@@ -99,7 +101,6 @@ class QmcVplSampler {
     if (lights.empty()) return out;
 
     const SceneGeometry geometry(scene);
-    const StandardBrdf brdf;
     // Delta lights (point, spot, directional) have one VPL whatever the sample, so instead of a
     // random share of the walks they light every set exactly: their direct light, hard shadows
     // included, is then the same in all S^2 sets and neither flickers nor shows the pattern.
@@ -159,9 +160,9 @@ class QmcVplSampler {
 
   /// Walk `j` of `n`: picks a light and an emission with u(0..4), follows the particle, appends
   /// its bounce VPLs, and returns the VPL on the light (none for delta lights, lit exactly).
-  template <class Tracer, class Shader, class Sample>
+  template <class Tracer, class Shader, class Brdf, class Sample>
   static std::optional<Vpl> start_walk(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
-                        const StandardBrdf& brdf, const VplSettings& settings, const LightSet& lights, int n,
+                        const Brdf& brdf, const VplSettings& settings, const LightSet& lights, int n,
                         const Sample& u, int j, std::vector<Vpl>& bounced, std::vector<VplOrigin>& bounced_origins) {
     const LightSet::Choice choice = lights.choose(u(0));
     const EmissionSample emission = lights.emitter(choice.index).sample_emission(u(1), u(2), u(3), u(4));
@@ -175,9 +176,9 @@ class QmcVplSampler {
   }
 
   /// m: mean VPLs per walk over a pilot of walks scrambled by the seed alone.
-  template <class Tracer, class Shader>
+  template <class Tracer, class Shader, class Brdf>
   static double pilot(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
-                      const StandardBrdf& brdf, const VplSettings& settings, const LightSet& lights) {
+                      const Brdf& brdf, const VplSettings& settings, const LightSet& lights) {
     // 256 walks measure m to a few percent (its relative error is about the walk-length spread
     // over 16) for a few hundred rays, next to the thousands a frame's VPLs cost.
     constexpr int pilot_walks = 256;
@@ -196,13 +197,11 @@ class QmcVplSampler {
   }
 
   /// Follows one particle from `origin` along `direction`, appending the VPLs it leaves.
-  template <class Tracer, class Shader, class Sample>
+  template <class Tracer, class Shader, class Brdf, class Sample>
   static void walk(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
-                   const StandardBrdf& brdf, const VplSettings& settings, glm::vec3 origin, glm::vec3 direction,
+                   const Brdf& brdf, const VplSettings& settings, glm::vec3 origin, glm::vec3 direction,
                    glm::vec3 flux, const Sample& u, int walk_index, std::vector<Vpl>& vpls,
                    std::vector<VplOrigin>& origins) {
-    // Alpha cut-outs (foliage) may stack; 16 layers bound the loop like the pipeline's.
-    constexpr int max_cutout_layers = 16;
     // Ray start offset for particles leaving a light or surface, relative to the coordinates'
     // magnitude (the same 1e-4 as BrdfSettings::ray_epsilon).
     constexpr float relative_epsilon = 1e-4f;
@@ -234,7 +233,7 @@ class QmcVplSampler {
       if (light_detail::largest_component(albedo) > 0.0f) {
         vpls.push_back({.position = position,
                         .normal = geometric,
-                        .intensity = flux * albedo * std::numbers::inv_pi_v<float>,
+                        .intensity = flux * albedo * inv_pi,
                         .kind = VplKind::surface});
         origins.push_back({walk_index, bounce});
       }

@@ -1,13 +1,17 @@
 #pragma once
 /// \file
-/// The VPL-sampler policy: per frame, the VPL sets from the scene's lights. VPLs depend only on
-/// the scene, the settings and the frame index, never on the tile, thread or process.
+/// The VPL-sampler policy: per frame, the VPL sets from the scene's lights. A sampler walks the
+/// scene with the frame's own surface shader and BRDF shader (one lane at a time), so the light
+/// that bounces has the colours the camera sees. VPLs depend only on the scene, the shaders, the
+/// settings and the frame index, never on the tile, thread or process.
 
 #include <concepts>
 #include <cstdint>
 
 #include "igi/lighting/vpl.hpp"
 #include "igi/scene/scene.hpp"
+#include "igi/shading/brdf_shader.hpp"
+#include "igi/shading/surface_shader.hpp"
 
 namespace igi {
 
@@ -21,12 +25,16 @@ struct VplSettings {
   Bounds scene_bounds{};         ///< The scene's world bounds this frame (for lights at infinity); empty: the sampler computes them.
 };
 
-/// A VPL sampler: `generate(scene, tracer, settings)` returns `settings.sets` sets of about
-/// `vpls_per_set` VPLs each. `Tracer` is any Backend (used with single rays).
-template <class V, class Tracer>
-concept VplSampler = requires(const V& sampler, const Scene& scene, const Tracer& tracer, const VplSettings& settings) {
-  { V::name() } -> std::convertible_to<const char*>;
-  { sampler.generate(scene, tracer, settings) } -> std::same_as<VplSets>;
-};
+/// A VPL sampler: `generate(scene, tracer, surface, brdf, settings)` returns `settings.sets` sets
+/// of about `vpls_per_set` VPLs each, shading the hits of its walks with `surface` and scattering
+/// them with `brdf`. `Tracer` is any Backend (used with single rays); the shaders are the frame's
+/// policies, used at width 1.
+template <class V, class Tracer, class Surface, class Brdf>
+concept VplSampler = SurfaceShader<Surface, 1> && BrdfShader<Brdf, 1> &&
+                     requires(const V& sampler, const Scene& scene, const Tracer& tracer, const Surface& surface,
+                              const Brdf& brdf, const VplSettings& settings) {
+                       { V::name() } -> std::convertible_to<const char*>;
+                       { sampler.generate(scene, tracer, surface, brdf, settings) } -> std::same_as<VplSets>;
+                     };
 
 }  // namespace igi

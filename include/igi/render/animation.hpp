@@ -16,28 +16,9 @@
 
 #include "igi/render/settings.hpp"
 #include "igi/scene/scene.hpp"
+#include "igi/scene/scene_changes.hpp"
 
 namespace igi {
-
-/// Scene state that changes between frames (the tile farm broadcasts it at the start of every frame).
-/// Values are absolute (not deltas), so applying the same changes twice is harmless.
-struct SceneChanges {
-  Camera camera;                                      ///< The frame's camera.
-  std::vector<std::pair<int, PunctualLight>> lights;  ///< Punctual lights replaced, by index.
-  std::vector<std::pair<int, glm::mat4>> instances;   ///< Instance transforms replaced, by index.
-
-  /// Throws SettingsError if an index does not exist in `scene`.
-  void check(const Scene& scene) const {
-    for (const auto& [index, light] : lights)
-      if (index < 0 || std::size_t(index) >= scene.lights.size())
-        throw SettingsError("scene change names punctual light " + std::to_string(index) + " but the scene has " +
-                            std::to_string(scene.lights.size()));
-    for (const auto& [index, transform] : instances)
-      if (index < 0 || std::size_t(index) >= scene.instances.size())
-        throw SettingsError("scene change names instance " + std::to_string(index) + " but the scene has " +
-                            std::to_string(scene.instances.size()));
-  }
-};
 
 /// What moves from frame to frame.
 enum class Animation { none, light, camera, object };
@@ -178,17 +159,11 @@ inline SceneChanges animate(const Scene& initial, const Camera& camera, Animatio
   return Animator(initial, camera, kind)(frame);
 }
 
-/// Applies `changes` to an igi::Renderer (or anything with scene(), set_light and
-/// set_instance_transform) and returns the frame's camera. Only transforms that differ are set, so
-/// an unchanged scene is not re-committed and frame 0 renders exactly as a still frame.
+/// Applies `changes` to an igi::Renderer (or anything with `apply(SceneChanges)`) and returns the
+/// frame's camera; see TileEngine::apply.
 template <class Renderer>
 Camera apply_changes(Renderer& renderer, const SceneChanges& changes) {
-  changes.check(renderer.scene());
-  for (const auto& [index, light] : changes.lights) renderer.set_light(index, light);
-  for (const auto& [index, transform] : changes.instances)
-    if (renderer.scene().instances[std::size_t(index)].transform != transform)
-      renderer.set_instance_transform(index, transform);
-  return changes.camera;
+  return renderer.apply(changes);
 }
 
 }  // namespace igi

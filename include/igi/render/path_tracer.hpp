@@ -42,6 +42,7 @@
 #include "igi/scene/camera.hpp"
 #include "igi/shading/brdf_sampling.hpp"
 #include "igi/shading/brdf_shader.hpp"
+#include "igi/shading/constants.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 #include "igi/shading/surface_shader.hpp"
 #include "igi/simd/sampling.hpp"
@@ -207,8 +208,6 @@ class PathTracer {
 
   /// Traces `ray` to its first opaque hit (passing alpha cut-outs) and shades it.
   Vertex trace(RayPacket<1>& ray, std::uint64_t& count) const {
-    // Sponza's foliage stacks a few cut-out layers; 16 (the pipeline's bound) is far more than any ray meets.
-    constexpr int max_cutout_layers = 16;
     Vertex v;
     const vmask<1> one(true);
     for (int layer = 0; layer < max_cutout_layers; ++layer) {
@@ -238,7 +237,6 @@ class PathTracer {
       ++count;
       return !backend_->occluded(ray, one)[0];
     }
-    constexpr int max_cutout_layers = 16;  // as in trace()
     for (int layer = 0; layer < max_cutout_layers; ++layer) {
       HitPacket<1> hits;
       hits.clear();

@@ -26,84 +26,14 @@
 
 #include "igi/backends/backend.hpp"
 #include "igi/filters/filter.hpp"
-#include "igi/lighting/vpl_sampler.hpp"
-#include "igi/render/float_mode.hpp"
+#include "igi/render/frame_state.hpp"
 #include "igi/render/interleaving.hpp"
-#include "igi/render/settings.hpp"
-#include "igi/render/tone_mapping.hpp"
-#include "igi/scene/camera.hpp"
 #include "igi/shading/brdf_shader.hpp"
+#include "igi/shading/constants.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 #include "igi/shading/surface_shader.hpp"
 
 namespace igi {
-
-/// What every tile of one frame shares.
-struct FrameContext {
-  const Scene* scene = nullptr;       ///< The scene as of this frame.
-  const SceneGeometry* geometry = nullptr;  ///< The scene's instance matrices as of this frame.
-  const PinholeProjection* projection = nullptr;  ///< Primary-ray generator.
-  const VplSets* vpls = nullptr;      ///< This frame's VPL sets (S^2 of them).
-  RenderSettings settings;            ///< Resolution, S, M, N, ...
-  float clamp_distance = 0.0f;        ///< Resolved minimum VPL distance.
-  float ray_epsilon = 1e-4f;          ///< Offset of secondary and shadow ray origins off surfaces.
-  ToneMapping tone_mapping;           ///< Parameters from the previous frame.
-  bool profile = false;               ///< Time each stage into TileResult::stages (2-9% slower frames).
-};
-
-/// What a frame's tiles share, built once per frame by `prepare`: the VPL sets, the instance
-/// matrices, the projection, and the FrameContext pointing at them (so it is not copyable).
-struct FrameState {
-  VplSets vpls;                                ///< This frame's VPL sets.
-  SceneGeometry geometry;                      ///< Instance matrices as of this frame.
-  std::optional<PinholeProjection> projection; ///< Primary-ray generator.
-  FrameContext context;                        ///< What render_tile reads.
-
-  FrameState() = default;
-  FrameState(const FrameState&) = delete;             ///< The context points into this object.
-  FrameState& operator=(const FrameState&) = delete;  ///< The context points into this object.
-
-  /// Builds frame `index` of `scene` (committed in `backend`) seen by `camera`, to be tone mapped
-  /// with `tone_mapping`: VPLs from `sampler`, clamp and ray offsets from the scene's world
-  /// `bounds` (SceneBounds keeps them without walking every vertex each frame).
-  template <class B, class Sampler>
-  void prepare(const Scene& scene, const Bounds& bounds, const B& backend, const Sampler& sampler,
-               const RenderSettings& settings, const Camera& camera, std::uint32_t index,
-               const ToneMapping& tone_mapping) {
-    VplSettings vpl_settings;
-    vpl_settings.sets = settings.interleave * settings.interleave;
-    vpl_settings.vpls_per_set = settings.vpls_per_pixel;
-    vpl_settings.frame = index;
-    vpl_settings.seed = settings.seed;
-    vpl_settings.max_bounces = settings.max_bounces;
-    vpl_settings.scene_bounds = bounds;
-    {
-      const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
-      vpls = sampler.generate(scene, backend, vpl_settings);
-    }
-    geometry.update(scene);
-    projection.emplace(camera, settings.width, settings.height);
-    context = FrameContext{};
-    context.scene = &scene;
-    context.geometry = &geometry;
-    context.projection = &*projection;
-    context.vpls = &vpls;
-    context.settings = settings;
-    const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
-    context.clamp_distance = resolve_clamp(settings, diagonal);
-    // Ray offsets scale with the scene: 1e-5 of its diagonal plus of its distance from the origin
-    // stays above float rounding of positions (about 6e-8 relative) yet far below any feature size.
-    const float reach = bounds.empty() ? 1.0f : std::max(glm::length(bounds.lower), glm::length(bounds.upper));
-    context.ray_epsilon = 1e-5f * (diagonal + reach);
-    context.tone_mapping = tone_mapping;
-  }
-  /// VPLs in all sets.
-  int vpl_count() const noexcept {
-    int n = 0;
-    for (const auto& set : vpls.sets) n += int(set.size());
-    return n;
-  }
-};
 
 /// Rays a tile traced, by kind.
 struct RayCounts {
@@ -121,7 +51,7 @@ struct RayCounts {
 };
 
 /// Where tiles' time went, stage by stage, in nanoseconds of one thread each (summed over tiles
-/// and threads, CPU time). Measured only when FrameContext::profile is set, else all zero.
+/// and threads, CPU time). Measured only when FrameState::profile is set, else all zero.
 struct StageTimes {
   std::uint64_t primary = 0;  ///< Step 1: camera rays made.
   std::uint64_t closest = 0;  ///< Step 2: closest-hit queries of camera, mirror and glass rays.
@@ -190,14 +120,14 @@ struct TileResult {
   std::vector<glm::u8vec3> rgb8;      ///< Tone-mapped sRGB, row-major over rect.
   LuminanceStatistics luminance;      ///< For the next frame's tone mapping.
   RayCounts rays;                     ///< Work done.
-  StageTimes stages;                  ///< Where the time went (with FrameContext::profile).
+  StageTimes stages;                  ///< Where the time went (with FrameState::profile).
 };
 
-/// The streaming pipeline over a Backend and the four policies. Stateless between tiles: all
-/// per-tile memory lives in a Workspace, one per thread.
-template <class B, class Surface, class Brdf, class Sampler, class F>
-  requires Backend<B> && SurfaceShader<Surface, B::width> && BrdfShader<Brdf, B::width> &&
-           VplSampler<Sampler, B> && Filter<F>
+/// The streaming pipeline over a Backend, the surface and BRDF shaders and the filter (the VPL
+/// sampler has run before, in FrameState::prepare). Stateless between tiles: all per-tile memory
+/// lives in a Workspace, one per thread.
+template <class B, class Surface, class Brdf, class F>
+  requires Backend<B> && SurfaceShader<Surface, B::width> && BrdfShader<Brdf, B::width> && Filter<F>
 class Pipeline {
  public:
   /// Packet width.
@@ -233,7 +163,7 @@ class Pipeline {
       : backend_(&backend), surface_(&surface), brdf_(&brdf), filter_(&filter) {}
 
   /// Renders `tile` of the frame into `out`.
-  void render_tile(const FrameContext& frame, const PixelRect& tile, Workspace& work, TileResult& out) const {
+  void render_tile(const FrameState& frame, const PixelRect& tile, Workspace& work, TileResult& out) const {
     const RenderSettings& s = frame.settings;
     const int border = filter_border(s.interleave);
     const PixelRect extended{tile.x0 - border, tile.y0 - border, tile.x1 + border, tile.y1 + border};
@@ -273,7 +203,7 @@ class Pipeline {
 
  private:
   /// Steps 1-2: primary rays of sub-sample k for every pixel packet of the set, traced.
-  void trace_primary(const FrameContext& frame, int k, Workspace& work, RayCounts& counts) const {
+  void trace_primary(const FrameState& frame, int k, Workspace& work, RayCounts& counts) const {
     ensure_levels(work, frame.settings.max_depth + 1);
     auto& level = work.levels[0];
     {
@@ -311,7 +241,7 @@ class Pipeline {
 
   /// Steps 3-4 for the stream at `depth`: surface shading (with alpha cut-outs), then each VPL
   /// of sub-sample k's subset of set `set` against every packet.
-  void shade_level(const FrameContext& frame, int set, int k, Workspace& work, int depth, RayCounts& counts) const {
+  void shade_level(const FrameState& frame, int set, int k, Workspace& work, int depth, RayCounts& counts) const {
     auto& level = work.levels[depth];
     {
       const StageTimer timer(work.timing(&StageTimes::surface));
@@ -327,7 +257,7 @@ class Pipeline {
     std::uint64_t vpl_loop = 0;
     {
       const StageTimer loop_timer(work.profile ? &vpl_loop : nullptr);
-      const std::vector<Vpl>& vpls = frame.vpls->sets[std::size_t(set)];
+      const std::vector<Vpl>& vpls = frame.vpls.sets[std::size_t(set)];
       const int subsets = frame.settings.antialiasing;
       // Each subset alone estimates the full light, so a sub-sample's subset is weighted by N.
       const float subset_weight = float(subsets);
@@ -360,11 +290,9 @@ class Pipeline {
 
   /// Step 3 for one packet: hit points, BRDF parameters, and rays continued through alpha
   /// cut-outs (traced with the `coherence` of the packet's level).
-  void shade_surface(const FrameContext& frame, StreamPacket& packet, Coherence coherence, std::uint64_t& count) const {
-    // Sponza's foliage stacks a few cut-out layers; 16 is far more than any pixel needs and bounds the loop.
-    constexpr int max_cutout_layers = 16;
+  void shade_surface(const FrameState& frame, StreamPacket& packet, Coherence coherence, std::uint64_t& count) const {
     packet.hit = packet.active & packet.hits.valid();
-    packet.surface = make_surface_hit(*frame.scene, *frame.geometry, packet.rays, packet.hits, packet.hit);
+    packet.surface = make_surface_hit(*frame.scene, frame.geometry, packet.rays, packet.hits, packet.hit);
     packet.parameters = surface_->shade(packet.surface, packet.hit);
     for (int layer = 0; layer < max_cutout_layers; ++layer) {
       const vmask<W> pass = packet.hit & !packet.parameters.opaque;
@@ -379,16 +307,16 @@ class Pipeline {
       count += std::uint64_t(popcount(pass));
       const vmask<W> again = pass & packet.hits.valid();
       packet.hit = (packet.hit & !pass) | again;
-      const SurfaceHit<W> surface = make_surface_hit(*frame.scene, *frame.geometry, packet.rays, packet.hits, again);
+      const SurfaceHit<W> surface = make_surface_hit(*frame.scene, frame.geometry, packet.rays, packet.hits, again);
       const BrdfParameters<W> parameters = surface_->shade(surface, again);
-      assign(packet.surface, surface, again);
-      assign(packet.parameters, parameters, again);
+      packet.surface.assign(surface, again);
+      packet.parameters.assign(parameters, again);
       if (layer + 1 == max_cutout_layers) packet.hit &= packet.parameters.opaque;  // give up: treat as opaque miss
     }
   }
 
   /// Step 5: the BRDF shader's reflection and refraction rays of level `depth` become level depth+1.
-  void spawn_level(const FrameContext&, Workspace& work, int depth) const {
+  void spawn_level(const FrameState&, Workspace& work, int depth) const {
     auto& next = work.levels[std::size_t(depth) + 1];
     next.clear();
     for (StreamPacket& packet : work.levels[std::size_t(depth)]) {
@@ -408,7 +336,7 @@ class Pipeline {
   }
 
   /// Step 6: sub-sample k's results into the G-buffer (first-hit normal and depth from sub-sample 0).
-  void write_gbuffer(const FrameContext&, const PixelRect& extended, int k, float share, Workspace& work) const {
+  void write_gbuffer(const FrameState&, const PixelRect& extended, int k, float share, Workspace& work) const {
     TileGBuffer& g = work.gbuffer;
     for (std::size_t level = 0; level < work.levels.size(); ++level) {
       for (const StreamPacket& packet : work.levels[level]) {
@@ -416,7 +344,7 @@ class Pipeline {
         // Radiance not filtered: emission, plus for deeper levels everything they gathered.
         vec3<W> rest = packet.parameters.emission;
         if (level > 0)
-          rest += packet.parameters.albedo * packet.light.irradiance * vfloat<W>(1.0f / 3.14159265358979f) +
+          rest += packet.parameters.albedo * packet.light.irradiance * vfloat<W>(inv_pi) +
                   packet.light.glossy;
         rest = keep(packet.throughput * rest, packet.hit);
         for (int i = 0; i < pixels.count; ++i) {
@@ -438,7 +366,7 @@ class Pipeline {
   }
 
   /// After all sets: filter, compose, record statistics, tone map.
-  void compose(const FrameContext& frame, const PixelRect& tile, const PixelRect& extended, Workspace& work,
+  void compose(const FrameState& frame, const PixelRect& tile, const PixelRect& extended, Workspace& work,
                TileResult& out) const {
     {
       const StageTimer timer(work.timing(&StageTimes::filter));
@@ -458,7 +386,7 @@ class Pipeline {
         const std::size_t inner = std::size_t(y) * std::size_t(tile.width()) + std::size_t(x);
         glm::vec3 radiance = g.radiance[at];
         if (g.hit[at])
-          radiance += g.albedo[at] * work.filtered.irradiance[inner] * (1.0f / 3.14159265358979f) +
+          radiance += g.albedo[at] * work.filtered.irradiance[inner] * inv_pi +
                       work.filtered.glossy[inner];
         out.hdr[inner] = radiance;
         out.luminance.add(radiance);
@@ -470,34 +398,6 @@ class Pipeline {
   static void ensure_levels(Workspace& work, int levels) {
     if (int(work.levels.size()) < levels) work.levels.resize(std::size_t(levels));
     for (auto& level : work.levels) level.clear();
-  }
-
-  /// Masked assignment of every field of a SurfaceHit.
-  static void assign(SurfaceHit<W>& to, const SurfaceHit<W>& from, const vmask<W>& mask) noexcept {
-    to.position.assign(from.position, mask);
-    to.geometric_normal.assign(from.geometric_normal, mask);
-    to.shading_normal.assign(from.shading_normal, mask);
-    to.wo.assign(from.wo, mask);
-    to.u.assign(from.u, mask);
-    to.v.assign(from.v, mask);
-    to.distance.assign(from.distance, mask);
-    to.material.assign(from.material, mask);
-    to.mesh.assign(from.mesh, mask);
-    to.instance.assign(from.instance, mask);
-    to.triangle.assign(from.triangle, mask);
-    to.front_face = (to.front_face & !mask) | (from.front_face & mask);
-  }
-  /// Masked assignment of every field of BrdfParameters.
-  static void assign(BrdfParameters<W>& to, const BrdfParameters<W>& from, const vmask<W>& mask) noexcept {
-    to.albedo.assign(from.albedo, mask);
-    to.glossy.assign(from.glossy, mask);
-    to.shininess.assign(from.shininess, mask);
-    to.mirror.assign(from.mirror, mask);
-    to.transmission.assign(from.transmission, mask);
-    to.ior.assign(from.ior, mask);
-    to.normal.assign(from.normal, mask);
-    to.emission.assign(from.emission, mask);
-    to.opaque = (to.opaque & !mask) | (from.opaque & mask);
   }
 
   const B* backend_;

@@ -26,6 +26,7 @@
 
 #include "igi/lighting/vpl.hpp"
 #include "igi/shading/brdf_shader.hpp"
+#include "igi/shading/constants.hpp"
 #include "igi/shading/surface_hit.hpp"
 
 namespace igi {
@@ -39,9 +40,6 @@ struct BrdfSettings {
 };
 
 namespace brdf_detail {
-
-/// 1/pi.
-inline constexpr float inverse_pi = 0.318309886183790671f;
 
 /// The unit normal shading uses: the surface shader's, or the geometric one where that is not
 /// a usable unit vector (zero, NaN) or faces away from wo.
@@ -128,7 +126,7 @@ template <int W>
 vfloat<W> phong_lobe(const vec3<W>& n, const vec3<W>& wo, const vfloat<W>& shininess, const vec3<W>& wi) noexcept {
   const vfloat<W> s = max(select(isfinite(shininess), shininess, vfloat<W>(1.0f)), vfloat<W>(0.0f));
   const vfloat<W> alignment = clamp(dot(reflect(wo, n), wi), vfloat<W>(0.0f), vfloat<W>(1.0f));
-  return (s + vfloat<W>(2.0f)) * vfloat<W>(0.5f * inverse_pi) * pow_unit(alignment, s);
+  return (s + vfloat<W>(2.0f)) * vfloat<W>(0.5f * inv_pi) * pow_unit(alignment, s);
 }
 
 /// The glossy part: glossy += intensity x falloff x cos(theta_x) x f_glossy.
@@ -153,7 +151,7 @@ vec3<W> evaluate_diffuse_glossy(const SurfaceHit<W>& hit, const BrdfParameters<W
   // Light from below the geometric surface cannot reach a one-sided reflector.
   const vmask<W> lanes = mask & parameters.opaque & (cosine > vfloat<W>(0.0f)) &
                          (dot(hit.geometric_normal, unit_wi) > vfloat<W>(0.0f));
-  vec3<W> f = parameters.albedo * vfloat<W>(inverse_pi);
+  vec3<W> f = parameters.albedo * vfloat<W>(inv_pi);
   if (with_glossy) f += parameters.glossy * phong_lobe(n, hit.wo, parameters.shininess, unit_wi);
   return keep(f * cosine, lanes);
 }

@@ -3,6 +3,8 @@
 /// Hit points as the shaders see them (`SurfaceHit<W>`), and what a surface shader hands the BRDF
 /// shader (`BrdfParameters<W>`). Both are structure-of-arrays packets; inactive lanes hold zeros.
 
+#include <concepts>
+
 #include "igi/simd/simd.hpp"
 
 namespace igi {
@@ -21,6 +23,22 @@ struct SurfaceHit {
   vint<W> instance;          ///< Index into Scene::instances.
   vint<W> triangle;          ///< Triangle index within the mesh.
   vmask<W> front_face;       ///< True where the ray hit the side the triangle's winding faces.
+
+  /// Takes every field of `from` in the lanes of `mask`, keeps this packet's elsewhere.
+  void assign(const SurfaceHit& from, const vmask<W>& mask) noexcept {
+    position.assign(from.position, mask);
+    geometric_normal.assign(from.geometric_normal, mask);
+    shading_normal.assign(from.shading_normal, mask);
+    wo.assign(from.wo, mask);
+    u.assign(from.u, mask);
+    v.assign(from.v, mask);
+    distance.assign(from.distance, mask);
+    material.assign(from.material, mask);
+    mesh.assign(from.mesh, mask);
+    instance.assign(from.instance, mask);
+    triangle.assign(from.triangle, mask);
+    front_face = (front_face & !mask) | (from.front_face & mask);
+  }
 };
 
 /// Per-lane inputs of the BRDF shader, written by a surface shader.
@@ -35,6 +53,28 @@ struct BrdfParameters {
   vec3<W> normal;          ///< Unit shading normal after bump mapping.
   vec3<W> emission;        ///< Emitted radiance towards wo.
   vmask<W> opaque;         ///< False where an alpha-mask cut-out lets the ray pass through.
+
+  /// Takes every field of `from` in the lanes of `mask`, keeps this packet's elsewhere.
+  void assign(const BrdfParameters& from, const vmask<W>& mask) noexcept {
+    albedo.assign(from.albedo, mask);
+    glossy.assign(from.glossy, mask);
+    shininess.assign(from.shininess, mask);
+    mirror.assign(from.mirror, mask);
+    transmission.assign(from.transmission, mask);
+    ior.assign(from.ior, mask);
+    normal.assign(from.normal, mask);
+    emission.assign(from.emission, mask);
+    opaque = (opaque & !mask) | (from.opaque & mask);
+  }
 };
+
+/// `a` in the lanes of `mask`, `b` elsewhere, for SurfaceHit and BrdfParameters alike.
+template <class Packet, int W>
+  requires std::same_as<Packet, SurfaceHit<W>> || std::same_as<Packet, BrdfParameters<W>>
+Packet select(const vmask<W>& mask, const Packet& a, const Packet& b) noexcept {
+  Packet result = b;
+  result.assign(a, mask);
+  return result;
+}
 
 }  // namespace igi

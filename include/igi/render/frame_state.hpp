@@ -1,0 +1,84 @@
+#pragma once
+/// \file
+/// What every tile of one frame shares: the frame's VPL sets, instance matrices, primary-ray
+/// projection, resolved clamp and ray offsets, and the tone mapping of the previous frame. Built
+/// once per frame by `FrameState::prepare`, read by every tile (on any thread or process).
+
+#include <algorithm>
+#include <cstdint>
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "igi/lighting/vpl_sampler.hpp"
+#include "igi/render/float_mode.hpp"
+#include "igi/render/settings.hpp"
+#include "igi/render/tone_mapping.hpp"
+#include "igi/scene/camera.hpp"
+#include "igi/scene/scene_bounds.hpp"
+#include "igi/shading/surface_hit_builder.hpp"
+
+namespace igi {
+
+/// The VPL settings of frame `index` rendered with `settings` in a scene of world `bounds`: S^2
+/// sets of M VPLs, the frame's seed and bounce limit.
+inline VplSettings vpl_settings_for(const RenderSettings& settings, std::uint32_t index, const Bounds& bounds = {}) {
+  VplSettings vpl_settings;
+  vpl_settings.sets = settings.interleave * settings.interleave;
+  vpl_settings.vpls_per_set = settings.vpls_per_pixel;
+  vpl_settings.frame = index;
+  vpl_settings.seed = settings.seed;
+  vpl_settings.max_bounces = settings.max_bounces;
+  vpl_settings.scene_bounds = bounds;
+  return vpl_settings;
+}
+
+/// One frame's shared, read-only inputs of the pipeline.
+struct FrameState {
+  const Scene* scene = nullptr;                ///< The scene as of this frame.
+  SceneGeometry geometry;                      ///< The scene's instance matrices as of this frame.
+  std::optional<PinholeProjection> projection; ///< Primary-ray generator; empty before prepare.
+  VplSets vpls;                                ///< This frame's VPL sets (S^2 of them).
+  RenderSettings settings;                     ///< Resolution, S, M, N, ...
+  float clamp_distance = 0.0f;                 ///< Resolved minimum VPL distance.
+  float ray_epsilon = 1e-4f;                   ///< Offset of secondary and shadow ray origins off surfaces.
+  ToneMapping tone_mapping;                    ///< Parameters from the previous frame.
+  bool profile = false;                        ///< Time each stage into TileResult::stages (2-9% slower frames).
+
+  /// Builds frame `index` of `scene` (committed in `backend`) seen by `camera`, to be tone mapped
+  /// with `tone_mapping`: VPLs from `sampler`, whose walks shade their hits with the frame's own
+  /// `surface` and `brdf` shaders, and clamp and ray offsets from the scene's world `bounds`
+  /// (SceneBounds keeps them without walking every vertex each frame).
+  template <class B, class Surface, class Brdf, class Sampler>
+    requires VplSampler<Sampler, B, Surface, Brdf>
+  void prepare(const Scene& scene, const Bounds& bounds, const B& backend, const Surface& surface, const Brdf& brdf,
+               const Sampler& sampler, const RenderSettings& frame_settings, const Camera& camera, std::uint32_t index,
+               const ToneMapping& frame_tone_mapping) {
+    {
+      const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
+      vpls = sampler.generate(scene, backend, surface, brdf, vpl_settings_for(frame_settings, index, bounds));
+    }
+    this->scene = &scene;
+    geometry.update(scene);
+    projection.emplace(camera, frame_settings.width, frame_settings.height);
+    settings = frame_settings;
+    const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
+    clamp_distance = resolve_clamp(frame_settings, diagonal);
+    // Ray offsets scale with the scene: 1e-5 of its diagonal plus of its distance from the origin
+    // stays above float rounding of positions (about 6e-8 relative) yet far below any feature size.
+    const float reach = bounds.empty() ? 1.0f : std::max(glm::length(bounds.lower), glm::length(bounds.upper));
+    ray_epsilon = 1e-5f * (diagonal + reach);
+    tone_mapping = frame_tone_mapping;
+    profile = false;
+  }
+  /// True once prepare has run.
+  bool prepared() const noexcept { return projection.has_value(); }
+  /// VPLs in all sets.
+  int vpl_count() const noexcept {
+    int n = 0;
+    for (const auto& set : vpls.sets) n += int(set.size());
+    return n;
+  }
+};
+
+}  // namespace igi

@@ -1,0 +1,185 @@
+#pragma once
+/// \file
+/// The tile engine: everything between a scene and finished tiles. It owns the backend and the
+/// pipeline, applies scene changes (so the backend follows), commits them, prepares each frame's
+/// FrameState (VPLs, instance matrices, projection) and renders lists of tiles on oneTBB threads,
+/// one tile per task, demand driven, each thread with its own workspace. `Renderer` (a whole
+/// frame in one process) and the MPI `TileRenderer` (the tiles rank 0 hands out) are thin front
+/// ends on it, so a tile is the same whichever renders it.
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <numeric>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include "igi/render/float_mode.hpp"
+#include "igi/render/frame_state.hpp"
+#include "igi/render/pipeline.hpp"
+#include "igi/scene/scene_bounds.hpp"
+#include "igi/scene/scene_changes.hpp"
+
+namespace igi {
+
+/// Renders tiles of frames of a scene with the IGI pipeline. The scene and policies are borrowed
+/// and must outlive the engine; the backend is built and owned here. Change the scene only through
+/// the engine (so the backend follows) and only between frames.
+template <class B, class Surface, class Brdf, class Sampler, class F>
+  requires VplSampler<Sampler, B, Surface, Brdf>
+class TileEngine {
+ public:
+  /// The pipeline type that renders the tiles.
+  using PipelineType = Pipeline<B, Surface, Brdf, F>;
+
+  /// Builds the backend for `scene`; throws SettingsError for unusable settings and
+  /// std::invalid_argument for a scene without triangles.
+  TileEngine(Scene& scene, const RenderSettings& settings, const Surface& surface, const Brdf& brdf,
+             const Sampler& sampler, const F& filter)
+      : scene_((require_geometry(scene), &scene)),
+        settings_((validate(settings), settings)),
+        backend_(std::make_unique<B>(scene)),
+        bounds_(scene),
+        surface_(&surface),
+        brdf_(&brdf),
+        sampler_(&sampler),
+        pipeline_(*backend_, surface, brdf, filter),
+        arena_(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic),
+        tiles_(make_tiles(settings.width, settings.height, settings.tile_size)),
+        all_tiles_(tiles_.size()) {
+    std::iota(all_tiles_.begin(), all_tiles_.end(), 0);
+  }
+
+  /// Moves instance `instance` (takes effect at the next frame).
+  void set_instance_transform(int instance, const glm::mat4& transform) {
+    Instance& entry = scene_->instances.at(std::size_t(instance));
+    backend_->set_instance_transform(instance, transform);  // first: it checks, and the scene stays as it was if it throws
+    entry.transform = transform;
+    bounds_.instance_moved(*scene_, instance);
+    dirty_ = true;
+  }
+  /// Replaces the vertex positions of mesh `mesh` (same count; takes effect at the next frame).
+  void set_mesh_positions(int mesh, std::span<const glm::vec3> positions) {
+    Mesh& m = scene_->meshes.at(std::size_t(mesh));
+    if (positions.size() != m.positions.size())
+      throw SettingsError("mesh " + std::to_string(mesh) + " has " + std::to_string(m.positions.size()) +
+                          " vertices, not " + std::to_string(positions.size()));
+    backend_->set_mesh_positions(mesh, positions);  // first: it checks, and the scene stays as it was if it throws
+    m.positions.assign(positions.begin(), positions.end());
+    bounds_.mesh_changed(*scene_, mesh);
+    dirty_ = true;
+  }
+  /// Replaces punctual light `light` (lights are read afresh every frame).
+  void set_light(int light, const PunctualLight& value) { scene_->lights.at(std::size_t(light)) = value; }
+  /// Applies `changes` (throws SceneError on an index the scene lacks, before changing anything)
+  /// and returns their camera. Only transforms that differ are set, so an unchanged scene is not
+  /// re-committed and the first frame of an animation renders exactly as a still frame.
+  Camera apply(const SceneChanges& changes) {
+    changes.check(*scene_);
+    for (const auto& [index, light] : changes.lights) set_light(index, light);
+    for (const auto& [index, transform] : changes.instances)
+      if (scene_->instances[std::size_t(index)].transform != transform) set_instance_transform(index, transform);
+    return changes.camera;
+  }
+
+  /// Prepares frame `index` as seen by `camera`: commits the scene changes, generates the frame's
+  /// VPLs and sets up the FrameState every tile reads, tone mapped with `tone_mapping`; `profile`
+  /// times each pipeline stage into the tiles' results.
+  void begin_frame(const Camera& camera, std::uint32_t index, const ToneMapping& tone_mapping, bool profile) {
+    if (dirty_) {
+      backend_->commit();
+      dirty_ = false;
+    }
+    frame_.prepare(*scene_, bounds_.bounds(), *backend_, *surface_, *brdf_, *sampler_, settings_, camera, index,
+                   tone_mapping);
+    frame_.profile = profile;
+  }
+
+  /// Renders tile `tile` (an index into tiles()) of the current frame into `out` on the calling
+  /// thread. Throws std::out_of_range for a tile outside the frame, std::logic_error before begin_frame.
+  void render_tile(int tile, TileResult& out) {
+    check_tile(tile);
+    const FlushDenormals flush;  // as every tile task, so a tile is the same on any thread
+    pipeline_.render_tile(frame_, tiles_[std::size_t(tile)], workspaces_.local().pipeline, out);
+  }
+
+  /// Renders the tiles `tiles` (indices into tiles()) of the current frame on this engine's
+  /// threads, one tile per task, demand driven. `done(i, result, milliseconds)` runs on the
+  /// rendering thread right after tile `tiles[i]`; `result` is that thread's buffer, reused for its
+  /// next tile, so keep what you need (copy, or swap it with a TileResult of yours).
+  template <class Done>
+  void render_tiles(std::span<const int> tiles, Done&& done) {
+    for (const int tile : tiles) check_tile(tile);
+    arena_.execute([&] {
+      // grainsize 1 + simple_partitioner: each idle thread takes the next single tile (demand driven).
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
+          [&](const tbb::blocked_range<std::size_t>& range) {
+            const FlushDenormals flush;
+            ThreadWork& work = workspaces_.local();
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+              const auto start = std::chrono::steady_clock::now();
+              pipeline_.render_tile(frame_, tiles_[std::size_t(tiles[i])], work.pipeline, work.result);
+              const double milliseconds =
+                  std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+              done(i, work.result, milliseconds);
+            }
+          },
+          tbb::simple_partitioner());
+    });
+  }
+
+  /// The frame's tiles, in make_tiles order.
+  const std::vector<PixelRect>& tiles() const noexcept { return tiles_; }
+  /// Every tile index, 0 .. tiles().size() - 1, for render_tiles.
+  std::span<const int> all_tiles() const noexcept { return all_tiles_; }
+  /// The current frame's shared state (after begin_frame).
+  const FrameState& frame() const noexcept { return frame_; }
+  /// The scene being rendered.
+  const Scene& scene() const noexcept { return *scene_; }
+  /// The backend (for statistics).
+  const B& backend() const noexcept { return *backend_; }
+  /// The settings.
+  const RenderSettings& settings() const noexcept { return settings_; }
+
+ private:
+  /// Throws unless `scene` has something to render.
+  static void require_geometry(const Scene& scene) {
+    if (scene.triangle_count() == 0)
+      throw std::invalid_argument("scene '" + scene.name + "' has no geometry: no triangles to render");
+  }
+  /// Throws unless `tile` can be rendered now.
+  void check_tile(int tile) const {
+    if (tile < 0 || std::size_t(tile) >= tiles_.size())
+      throw std::out_of_range("tile " + std::to_string(tile) + " is outside 0.." + std::to_string(tiles_.size() - 1));
+    if (!frame_.prepared()) throw std::logic_error("a tile was rendered before begin_frame");
+  }
+  /// What one thread keeps between tiles.
+  struct ThreadWork {
+    typename PipelineType::Workspace pipeline;  ///< Streams and G-buffer.
+    TileResult result;                          ///< The tile being finished.
+  };
+
+  Scene* scene_;
+  RenderSettings settings_;
+  std::unique_ptr<B> backend_;
+  SceneBounds bounds_;  ///< The scene's world bounds, updated with each change.
+  const Surface* surface_;
+  const Brdf* brdf_;
+  const Sampler* sampler_;
+  PipelineType pipeline_;
+  tbb::task_arena arena_;
+  std::vector<PixelRect> tiles_;
+  std::vector<int> all_tiles_;
+  tbb::enumerable_thread_specific<ThreadWork> workspaces_;
+  FrameState frame_;
+  bool dirty_ = false;
+};
+
+}  // namespace igi
