@@ -10,7 +10,7 @@
 #include "common/command_line.hpp"
 
 #include "igi/backends/embree/embree_backend.hpp"
-#include "igi/io/image.hpp"
+#include "igi/io/image_files.hpp"
 #include "igi/render/path_tracer.hpp"
 #include "igi/scene/camera.hpp"
 #include "igi/scene/cornell.hpp"

@@ -12,7 +12,7 @@
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/backends/reference/reference_backend.hpp"
 #include "igi/backends/saarcor/saarcor_backend.hpp"
-#include "igi/io/image.hpp"
+#include "igi/io/image_files.hpp"
 #include "igi/render/settings.hpp"
 #include "igi/scene/camera.hpp"
 #include "igi/scene/cornell.hpp"

@@ -10,7 +10,7 @@
 #include "common/command_line.hpp"
 #include <nlohmann/json.hpp>
 
-#include "igi/io/image.hpp"
+#include "igi/io/image_files.hpp"
 #include "igi/io/metrics.hpp"
 
 int main(int argc, char** argv) {

@@ -9,7 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <igi/backends/embree/embree_backend.hpp>
 #include <igi/filters/tile_filters.hpp>
-#include <igi/io/image.hpp>
+#include <igi/io/image_files.hpp>
 #include <igi/lighting/qmc_vpl_sampler.hpp>
 #include <igi/render/renderer.hpp>
 #include <igi/shading/brdf_shaders.hpp>

@@ -21,7 +21,7 @@
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/backends/reference/reference_backend.hpp"
 #include "igi/backends/saarcor/saarcor_backend.hpp"
-#include "igi/io/image.hpp"
+#include "igi/io/image_files.hpp"
 #include "igi/lighting/qmc_vpl_sampler.hpp"
 #include "igi/render/filter_choice.hpp"
 #include "igi/render/renderer.hpp"

@@ -16,7 +16,7 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "igi/io/image.hpp"
+#include "igi/io/srgb.hpp"
 #include "igi/render/tone_mapping.hpp"
 #include "igi/scene/scene.hpp"
 

@@ -1,11 +1,12 @@
 #pragma once
 /// \file
 /// How igi compiles its few large non-template functions (the glTF loader, the built-in Cornell
-/// box). By default igi is header-only: they are `inline`, and every translation unit that calls
-/// one compiles it (the loader alone is some 20 CPU-seconds at -O3). A program of many translation
-/// units can compile them once instead: define IGI_SEPARATE_COMPILATION in all of its translation
-/// units and include igi/separate_compilation.hpp in exactly one .cpp. igi's own tests, benchmarks
-/// and examples build this way (the CMake target igi_separate); the install tests build a consumer
+/// box, the image codecs). By default igi is header-only: they are `inline`, and every translation
+/// unit that calls one compiles it (the loader alone is some 20 CPU-seconds at -O3). A program of
+/// many translation units can compile them once instead: define IGI_SEPARATE_COMPILATION in all of
+/// its translation units and include igi/separate_compilation.hpp in exactly one .cpp; only that
+/// one then includes tinygltf, stb and tinyexr. igi's own tests, benchmarks and examples
+/// build this way (the CMake target igi_separate); the install tests build a consumer
 /// header-only. The SIMD and template code stays in the headers either way.
 
 #if defined(IGI_SEPARATE_COMPILATION)

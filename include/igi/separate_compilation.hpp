@@ -7,5 +7,6 @@
 #error "igi/separate_compilation.hpp: define IGI_SEPARATE_COMPILATION in every translation unit (see igi/config.hpp)"
 #endif
 
+#include "igi/io/impl/image_codecs.hpp"
 #include "igi/scene/impl/cornell_box.hpp"
 #include "igi/scene/impl/gltf_loader.hpp"

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "igi/io/image.hpp"
+#include "igi/io/image_files.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 2) {

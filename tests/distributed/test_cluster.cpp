@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "igi/io/image.hpp"
+#include "igi/io/image_files.hpp"
 #include "scenes.hpp"
 
 namespace {

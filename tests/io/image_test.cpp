@@ -13,6 +13,9 @@
 #include <vector>
 
 #include <catch2/catch.hpp>
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+#include <tinyexr.h>
 #include <unistd.h>
 
 #include "igi/io/image.hpp"

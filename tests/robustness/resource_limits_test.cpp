@@ -15,7 +15,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "igi/io/image.hpp"
+#include "igi/io/image_files.hpp"
 #include "igi/render/settings.hpp"
 #include "igi/scene/gltf.hpp"
 #include "igi/scene/memory.hpp"

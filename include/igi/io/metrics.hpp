@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "igi/io/image.hpp"
+#include "igi/io/srgb.hpp"
 
 namespace igi {
 

@@ -36,7 +36,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include "igi/backends/backend.hpp"
-#include "igi/io/image.hpp"
+#include "igi/io/image_types.hpp"
 #include "igi/lighting/light_sampling.hpp"
 #include "igi/render/pipeline.hpp"
 #include "igi/scene/camera.hpp"

@@ -10,7 +10,7 @@
 
 #include <glm/glm.hpp>
 
-#include "igi/io/image.hpp"
+#include "igi/io/srgb.hpp"
 
 namespace igi {
 

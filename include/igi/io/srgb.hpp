@@ -1,0 +1,112 @@
+#pragma once
+/// \file
+/// The sRGB transfer functions, luminance, and quantization between linear float images and
+/// 8-bit sRGB ones. Needs no image codec: tone mapping and the renderers include this, not the
+/// file readers and writers.
+
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "igi/io/image_types.hpp"
+
+namespace igi {
+
+/// Relative luminance of linear Rec. 709 / sRGB primaries (the Y of CIE XYZ).
+inline float luminance(const glm::vec3& rgb) noexcept {
+  // Rec. 709 / sRGB luminance weights (the middle row of the RGB -> XYZ matrix).
+  return 0.2126f * rgb.r + 0.7152f * rgb.g + 0.0722f * rgb.b;
+}
+
+/// sRGB transfer function (IEC 61966-2-1): linear [0, 1] -> encoded [0, 1]; clamps, NaN -> 0.
+inline float srgb_encode(float linear) noexcept {
+  if (!(linear > 0.0f)) return 0.0f;  // negative, zero and NaN
+  if (linear >= 1.0f) return 1.0f;
+  // The standard's constants: linear segment below 0.0031308, slope 12.92; power 1/2.4 above.
+  if (linear <= 0.0031308f) return 12.92f * linear;
+  return 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+/// Inverse sRGB transfer function: encoded [0, 1] -> linear [0, 1]; clamps, NaN -> 0.
+inline float srgb_decode(float encoded) noexcept {
+  if (!(encoded > 0.0f)) return 0.0f;
+  if (encoded >= 1.0f) return 1.0f;
+  // The standard's constants: linear segment below 0.04045 (= 12.92 * 0.0031308).
+  if (encoded <= 0.04045f) return encoded / 12.92f;
+  return static_cast<float>(std::pow((static_cast<double>(encoded) + 0.055) / 1.055, 2.4));
+}
+
+/// Linear value -> 8-bit sRGB code straight from the transfer function (the definition `quantize`
+/// reproduces from a table).
+inline std::uint8_t quantize_direct(float linear) noexcept {
+  // 255 codes above 0; + 0.5 then truncation rounds to nearest (the value is >= 0).
+  return static_cast<std::uint8_t>(srgb_encode(linear) * 255.0f + 0.5f);
+}
+
+namespace image_detail {
+/// Entry c - 1 is the smallest float whose code under `quantize_direct` is at least c (c = 1 .. 255),
+/// found by bisection over the bit patterns of [0, 1], which are ordered like the floats.
+inline const std::array<float, 255>& quantize_thresholds() noexcept {
+  static const std::array<float, 255> thresholds = [] {
+    std::array<float, 255> table{};
+    for (int code = 1; code <= 255; ++code) {
+      std::uint32_t low = std::bit_cast<std::uint32_t>(0.0f), high = std::bit_cast<std::uint32_t>(1.0f);
+      while (low < high) {
+        const std::uint32_t middle = low + (high - low) / 2;
+        if (quantize_direct(std::bit_cast<float>(middle)) >= code)
+          high = middle;
+        else
+          low = middle + 1;
+      }
+      table[static_cast<std::size_t>(code - 1)] = std::bit_cast<float>(low);
+    }
+    return table;
+  }();
+  return thresholds;
+}
+}  // namespace image_detail
+
+/// Linear value -> 8-bit sRGB code, rounded to nearest (values outside [0, 1] clamp, NaN -> 0).
+/// Equal to `quantize_direct` for every float, without a `pow` per call: the code is the number
+/// of thresholds at or below the value, found in eight halving steps.
+inline std::uint8_t quantize(float linear) noexcept {
+  if (!(linear > 0.0f)) return 0;  // negative, zero and NaN
+  const std::array<float, 255>& thresholds = image_detail::quantize_thresholds();
+  int code = 0;
+  for (int step = 128; step > 0; step /= 2)
+    if (code + step <= 255 && thresholds[static_cast<std::size_t>(code + step - 1)] <= linear) code += step;
+  return static_cast<std::uint8_t>(code);
+}
+
+/// 8-bit sRGB code -> linear value (the exact inverse of `quantize` on codes).
+inline float dequantize(std::uint8_t code) noexcept { return srgb_decode(static_cast<float>(code) / 255.0f); }
+
+/// `image` quantized to 8-bit sRGB, pixel by pixel (see `quantize(float)`).
+inline Rgb8Image quantize(const Image& image) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
+    throw std::invalid_argument("quantize: " + std::to_string(image.width) + " x " + std::to_string(image.height) +
+                                " image holds " + std::to_string(image.pixels.size()) + " pixels");
+  Rgb8Image result(image.width, image.height);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c) result.bytes[i * 3 + c] = quantize(image.pixels[i][c]);
+  return result;
+}
+
+/// `image` decoded to linear floats (see `dequantize(std::uint8_t)`).
+inline Image dequantize(const Rgb8Image& image) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.bytes.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3)
+    throw std::invalid_argument("dequantize: " + std::to_string(image.width) + " x " + std::to_string(image.height) +
+                                " RGB8 image holds " + std::to_string(image.bytes.size()) + " bytes");
+  Image result(image.width, image.height);
+  for (std::size_t i = 0; i < result.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c) result.pixels[i][c] = dequantize(image.bytes[i * 3 + c]);
+  return result;
+}
+}  // namespace igi
