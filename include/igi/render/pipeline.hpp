@@ -133,10 +133,9 @@ class Pipeline {
   /// Packet width.
   static constexpr int W = B::width;
 
-  /// One packet of a ray stream and everything the stages compute for it.
-  struct StreamPacket {
-    RayPacket<W> rays;              ///< The rays.
-    HitPacket<W> hits;              ///< Their hits.
+  /// One packet of a ray stream and everything the stages compute for it. Its rays and hits are
+  /// a RayHitPacket, so backends that trace both in place (Embree) find them in their layout.
+  struct StreamPacket : RayHitPacket<W> {
     vmask<W> active;                ///< Lanes carrying a ray.
     vmask<W> hit;                   ///< Lanes whose ray hit something.
     vec3<W> throughput;             ///< Weight of this path in its pixel (1 for primary rays).
