@@ -2,6 +2,7 @@
 #include "common/stats_json.hpp"
 
 #include <iostream>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -24,55 +25,34 @@ StatsJson& StatsJson::operator=(StatsJson&& other) noexcept {
   return *this;
 }
 
-StatsJson& StatsJson::set(const std::string& name, int value) {
-  fields_->object[name] = value;
-  return *this;
+namespace {
+
+/// Sets `object[name]` to `value` and returns `stats`, the StatsJson that holds `object`.
+template <class Value>
+StatsJson& set_field(StatsJson& stats, nlohmann::json& object, const std::string& name, Value&& value) {
+  object[name] = std::forward<Value>(value);
+  return stats;
 }
-StatsJson& StatsJson::set(const std::string& name, unsigned value) {
-  fields_->object[name] = value;
-  return *this;
-}
-StatsJson& StatsJson::set(const std::string& name, std::int64_t value) {
-  fields_->object[name] = value;
-  return *this;
-}
-StatsJson& StatsJson::set(const std::string& name, std::uint64_t value) {
-  fields_->object[name] = value;
-  return *this;
-}
-StatsJson& StatsJson::set(const std::string& name, double value) {
-  fields_->object[name] = value;
-  return *this;
-}
-StatsJson& StatsJson::set(const std::string& name, bool value) {
-  fields_->object[name] = value;
-  return *this;
-}
-StatsJson& StatsJson::set(const std::string& name, const std::string& value) {
-  fields_->object[name] = value;
-  return *this;
-}
-StatsJson& StatsJson::set(const std::string& name, const char* value) {
-  fields_->object[name] = value;
-  return *this;
-}
-StatsJson& StatsJson::set(const std::string& name, std::nullptr_t) {
-  fields_->object[name] = nullptr;
-  return *this;
-}
+
+}  // namespace
+
+StatsJson& StatsJson::set(const std::string& name, int value) { return set_field(*this, fields_->object, name, value); }
+StatsJson& StatsJson::set(const std::string& name, unsigned value) { return set_field(*this, fields_->object, name, value); }
+StatsJson& StatsJson::set(const std::string& name, std::int64_t value) { return set_field(*this, fields_->object, name, value); }
+StatsJson& StatsJson::set(const std::string& name, std::uint64_t value) { return set_field(*this, fields_->object, name, value); }
+StatsJson& StatsJson::set(const std::string& name, double value) { return set_field(*this, fields_->object, name, value); }
+StatsJson& StatsJson::set(const std::string& name, bool value) { return set_field(*this, fields_->object, name, value); }
+StatsJson& StatsJson::set(const std::string& name, const std::string& value) { return set_field(*this, fields_->object, name, value); }
+StatsJson& StatsJson::set(const std::string& name, const char* value) { return set_field(*this, fields_->object, name, value); }
+StatsJson& StatsJson::set(const std::string& name, std::nullptr_t) { return set_field(*this, fields_->object, name, nullptr); }
+StatsJson& StatsJson::set(const std::string& name, const std::vector<int>& values) { return set_field(*this, fields_->object, name, values); }
 StatsJson& StatsJson::set(const std::string& name, const StatsJson& value) {
-  fields_->object[name] = value.fields_->object;
-  return *this;
-}
-StatsJson& StatsJson::set(const std::string& name, const std::vector<int>& values) {
-  fields_->object[name] = values;
-  return *this;
+  return set_field(*this, fields_->object, name, value.fields_->object);
 }
 StatsJson& StatsJson::set(const std::string& name, const std::vector<StatsJson>& values) {
   nlohmann::json array = nlohmann::json::array();
   for (const StatsJson& value : values) array.push_back(value.fields_->object);
-  fields_->object[name] = std::move(array);
-  return *this;
+  return set_field(*this, fields_->object, name, std::move(array));
 }
 StatsJson& StatsJson::update(const StatsJson& other) {
   fields_->object.update(other.fields_->object);
