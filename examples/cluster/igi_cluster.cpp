@@ -125,8 +125,7 @@ int main(int argc, char** argv) {
   Options options;
   CommandLine command_line{"igi-cluster", "igi-render's IGI pipeline as the paper's tile farm on MPI (mpirun -np N igi-cluster ...)"};
   add_render_options(command_line, options, "threads per rank (0: all cores)", "frames to render (indices 0..F-1)");
-  add_animate_option(command_line, options.animate, {"none", "light", "object", "camera"},
-                     "dynamic scene: a deterministic function of the frame index");
+  add_animate_option(command_line, options.animate, "dynamic scene: a deterministic function of the frame index");
   command_line.flag("--every-frame", options.every_frame,
                     "also write every frame, named as igi-render --animate names them (<stem>_NNNN<ext>, or a %04d pattern)");
   command_line.add("--tile", options.settings.tile_size, "tile edge in pixels").range(4, 1024).show_default();

@@ -82,8 +82,8 @@ void add_seed_option(CommandLine& command_line, std::uint32_t& seed) {
   command_line.add("--seed", seed, "randomisation seed").show_default();
 }
 
-void add_animate_option(CommandLine& command_line, std::string& animate, std::initializer_list<std::string> names,
-                        const std::string& help) {
+void add_animate_option(CommandLine& command_line, std::string& animate, const std::string& help,
+                        std::initializer_list<std::string> names) {
   command_line.add("--animate", animate, help).choices(names).show_default();
 }
 

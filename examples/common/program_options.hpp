@@ -60,10 +60,10 @@ void add_backend_options(CommandLine& command_line, std::string& backend, int& p
 void add_threads_option(CommandLine& command_line, int& threads, const std::string& help);
 /// Adds --seed, the randomisation seed.
 void add_seed_option(CommandLine& command_line, std::uint32_t& seed);
-/// Adds --animate: what moves from frame to frame, one of `names` (each a name of
-/// igi::parse_animation: none, light, camera, object), explained by `help`.
-void add_animate_option(CommandLine& command_line, std::string& animate, std::initializer_list<std::string> names,
-                        const std::string& help);
+/// Adds --animate: what moves from frame to frame, explained by `help`, one of `names` (names of
+/// igi::parse_animation; by default all of them).
+void add_animate_option(CommandLine& command_line, std::string& animate, const std::string& help,
+                        std::initializer_list<std::string> names = {"none", "light", "object", "camera"});
 
 /// Writes an image: PNG gets the tone-mapped pixels `rgb8`, EXR and PFM the linear radiance `hdr`.
 void write_output(const std::filesystem::path& path, const Image& hdr, const Rgb8Image& rgb8);

@@ -181,7 +181,7 @@ int main(int argc, char** argv) {
   CommandLine command_line{"igi-render", "interactive global illumination (instant radiosity with interleaved sampling)"};
   add_render_options(command_line, options, "worker threads (0: all cores)",
                      "frames to render (timings are their median; with --integrator path: passes of --spp samples)");
-  add_animate_option(command_line, options.animate, {"none", "light", "object", "camera"},
+  add_animate_option(command_line, options.animate,
                      "render --frames frames of a moving scene to an image sequence: -o out.png writes out_0000.png, "
                      "out_0001.png, ...; -o frames/%04d.png numbers them printf-style. light: the lights circle, "
                      "object: the smallest object slides, camera: the view orbits the scene");

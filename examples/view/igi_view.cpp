@@ -435,8 +435,9 @@ int main(int argc, char** argv) {
   igi::programs::add_threads_option(command_line, options.settings.threads, "worker threads (0: all cores)");
   igi::programs::add_seed_option(command_line, options.settings.seed);
   command_line.add("--frames", options.frames, "quit after this many frames (0: run until closed)").range(0, 1000000).show_default();
-  igi::programs::add_animate_option(command_line, options.animate, {"none", "light", "camera"},
-                                    "what moves from the first frame: light: the light circles, camera: the view orbits the scene");
+  igi::programs::add_animate_option(command_line, options.animate,
+                                    "what moves from the first frame: light: the light circles, camera: the view orbits the scene",
+                                    {"none", "light", "camera"});
   command_line.add("--keys", options.keys, "key presses, one per frame from the first (any of bfilnpr+-), to script a session");
   command_line.add("--screenshot", options.screenshot, "PNG of the window after the last of --frames frames (interactively: P key)");
   if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
