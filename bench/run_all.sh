@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Runs igi's whole benchmark suite (issue 6): builds the bench targets (Release, native preset),
-# runs them, writes bench/results/*.json, draws PNG charts (matplotlib in a venv this script
-# makes) and rewrites the generated tables in bench/README.md (between <!-- bench:NAME --> and
-# <!-- /bench:NAME -->; the hand-written text around them stays).
+# Runs igi's whole benchmark suite, the source of every number bench/README.md quotes: builds the
+# bench targets (Release, native preset), runs them, writes bench/results/*.json, draws PNG
+# charts (matplotlib in a venv this script makes) and rewrites the generated tables in
+# bench/README.md (between <!-- bench:NAME --> and <!-- /bench:NAME -->; the hand-written text
+# around them stays).
 #
 #   bash bench/run_all.sh [--smoke] [--build-dir DIR] [--no-build] [--frames N]
 #

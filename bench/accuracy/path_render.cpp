@@ -8,42 +8,42 @@
 #include <string>
 
 #include "common/command_line.hpp"
+#include "common/program_options.hpp"
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/io/image_files.hpp"
 #include "igi/render/path_tracer.hpp"
 #include "igi/scene/camera.hpp"
-#include "igi/scene/cornell.hpp"
-#include "igi/scene/gltf.hpp"
 #include "igi/shading/brdf_shaders.hpp"
 #include "igi/shading/gltf_material_shader.hpp"
 
 int main(int argc, char** argv) {
   igi::programs::CommandLine command_line{"igi-path-render", "igi's reference path tracer into an HDR image"};
-  std::string scene_path, builtin, output, size = "256x256";
+  igi::programs::SceneOptions scene_options;
+  std::string output, size = "256x256";
   int spp = 64, threads = 0;
   std::uint32_t seed = 0;
   bool centre = false;
-  command_line.add("SCENE", scene_path, "glTF scene");
-  command_line.add("--builtin", builtin, "Built-in scene instead of a file").choices({"cornell"});
+  igi::programs::add_scene_options(command_line, scene_options);
   command_line.add("-o,--output", output, "Output image (.exr, .pfm or .png)").required();
-  command_line.add("--size", size, "Image size WxH");
+  igi::programs::add_size_option(command_line, size);
   command_line.add("--spp", spp, "Samples per pixel").range(1, 1 << 20);
-  command_line.add("--seed", seed, "Random seed");
-  command_line.add("--threads", threads, "Worker threads (0: all cores)").range(0, 1024);
+  igi::programs::add_seed_option(command_line, seed);
+  igi::programs::add_threads_option(command_line, threads, "Worker threads (0: all cores)");
   command_line.flag("--pixel-centre", centre, "Sample pixel centres only (as IGI without anti-aliasing)");
   if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   int width = 0, height = 0;
-  if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2 || width < 1 || height < 1) {
-    std::cerr << "igi-path-render: --size '" << size << "' is not WxH with positive W and H\n";
-    return 2;
-  }
-  if (scene_path.empty() == builtin.empty()) {
-    std::cerr << "igi-path-render: give exactly one of SCENE and --builtin\n";
+  try {
+    const igi::programs::ImageSize image_size = igi::programs::parse_image_size(size);
+    width = image_size.width;
+    height = image_size.height;
+    igi::programs::check_scene_options(scene_options);
+  } catch (const igi::programs::UsageError& error) {
+    std::cerr << "igi-path-render: " << error.what() << "\n";
     return 2;
   }
   try {
-    const igi::Scene scene = builtin.empty() ? igi::load_gltf(scene_path) : igi::cornell_box();
+    const igi::Scene scene = igi::programs::load_scene(scene_options);
     const igi::EmbreeBackend<1> backend(scene);
     const igi::GltfMaterialShader surface(scene);
     const igi::StandardBrdf brdf;

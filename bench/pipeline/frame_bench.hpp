@@ -1,7 +1,7 @@
 #pragma once
 // What the frame-level benchmarks (pipeline_bench, scaling_bench) share: the two scenes, the
-// renderer they run, the command-line knobs outside Google Benchmark's own, medians, and the
-// helpers that turn rendered frames into Google Benchmark counters.
+// renderer they run, the command-line knobs outside Google Benchmark's own, and the helpers that
+// turn rendered frames into Google Benchmark counters (by medians: programs::median).
 
 #include <algorithm>
 #include <chrono>
@@ -20,6 +20,7 @@
 #include <benchmark/benchmark.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "common/program_options.hpp"
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/filters/tile_filters.hpp"
 #include "igi/lighting/qmc_vpl_sampler.hpp"
@@ -140,13 +141,8 @@ struct Policies {
   DiscontinuityFilter filter;  ///< The paper's filter.
 };
 
-/// Median of some values (0 for none).
-inline double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
+/// The programs' median (0 for none), which the frame-level benchmarks report timings by too.
+using programs::median;
 
 /// CPU time of the whole process (all threads) in milliseconds: on a loaded machine it says how
 /// much work a frame was, where the wall clock also says how long it waited for a core.

@@ -1,4 +1,5 @@
-// Frame-level benchmarks of the IGI pipeline on the Cornell box and Sponza_lit (issue 6, items 2-5):
+// Frame-level benchmarks of the IGI pipeline on the Cornell box and Sponza_lit: how close a frame
+// comes to the ray tracer's own speed, and the paper's Tables 1 and 3 with the frame rates around them:
 //
 //   efficiency/SCENE/threads:T       the physical limit: a frame's exact rays replayed through plain
 //                                    Embree (rtcIntersect16 / rtcOccluded16 flagged as the backend
@@ -27,6 +28,7 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include "common/backend_choice.hpp"
 #include "frame_bench.hpp"
 #include "igi/backends/recording_backend.hpp"
 #include "igi/render/interleaving.hpp"
@@ -79,7 +81,7 @@ void frames_benchmark(benchmark::State& state, const std::string& scene_name, co
 }
 
 // ---------------------------------------------------------------------------------------------
-// Item 2: the physical limit.
+// The physical limit: how much of a frame's time plain Embree would need for its rays.
 
 /// A recorded packet laid out for Embree's packet calls, with its valid[] lanes.
 struct alignas(64) ReplayPacket {
@@ -185,7 +187,7 @@ ReplayTimes replay_once(Replay& replay, RTCScene scene, tbb::task_arena& arena) 
   return t;
 }
 
-/// Item 2: record frame 1 through RecordingBackend, then alternate timing the full frame (plain
+/// The physical limit: record frame 1 through RecordingBackend, then alternate timing the full frame (plain
 /// Embree backend, same frame index, so the same rays) and replaying the recorded rays.
 void efficiency_benchmark(benchmark::State& state, const std::string& scene_name, int threads) {
   BenchScene* bench = scene_or_skip(state, scene_name);
@@ -254,7 +256,7 @@ void efficiency_benchmark(benchmark::State& state, const std::string& scene_name
 }
 
 // ---------------------------------------------------------------------------------------------
-// Item 3, Table 1: primary rays with and without simple shading.
+// The paper's Table 1: primary rays with and without simple shading.
 
 /// What Table 1 measures.
 enum class CastKind { packet_cast, packet_shaded, single_shaded };
@@ -389,14 +391,11 @@ void register_all() {
         frames_benchmark<EmbreeBackend<16>>(s, scene, settings_for({640, 480}, 16, 1, t), false);
       });
     const RenderSettings same_frame = settings_for({640, 480}, 16, 1, threads);
-    register_once("width/" + scene + "/W:1",
-                  [=](benchmark::State& s) { frames_benchmark<EmbreeBackend<1>>(s, scene, same_frame, false); });
-    register_once("width/" + scene + "/W:4",
-                  [=](benchmark::State& s) { frames_benchmark<EmbreeBackend<4>>(s, scene, same_frame, false); });
-    register_once("width/" + scene + "/W:8",
-                  [=](benchmark::State& s) { frames_benchmark<EmbreeBackend<8>>(s, scene, same_frame, false); });
-    register_once("width/" + scene + "/W:16",
-                  [=](benchmark::State& s) { frames_benchmark<EmbreeBackend<16>>(s, scene, same_frame, false); });
+    using Widths = programs::BackendList<EmbreeBackend<1>, EmbreeBackend<4>, EmbreeBackend<8>, EmbreeBackend<16>>;
+    programs::for_each_backend(Widths{}, [&]<class B>() {
+      register_once("width/" + scene + "/W:" + std::to_string(B::width),
+                    [=](benchmark::State& s) { frames_benchmark<B>(s, scene, same_frame, false); });
+    });
   }
 }
 

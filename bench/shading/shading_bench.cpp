@@ -1,6 +1,6 @@
-// Packet against single-ray shading (issue 6 item 1): the pipeline's VPL shading step - connect a
-// hit point to a VPL, trace the shadow ray, evaluate the BRDF - run by the library's own code at
-// packet widths W = 1, 4, 8, 16 (Embree) and 64 (SaarCOR), with and without the shadow rays.
+// Packet against single-ray shading, the paper's claim that SIMD packets pay off in shading too:
+// the pipeline's VPL shading step - connect a hit point to a VPL, trace the shadow ray, evaluate
+// the BRDF - run by the library's own code at packet widths W = 1, 4, 8, 16 (Embree) and 64 (SaarCOR), with and without the shadow rays.
 // W = 1 is the same code at width 1: the paper's "single ray".
 //
 //   shading_bench [--smoke] [--scenes=DIR] --benchmark_format=json
@@ -24,6 +24,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "common/backend_choice.hpp"
 #include "frame_bench.hpp"
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/backends/saarcor/saarcor_backend.hpp"
@@ -227,22 +228,14 @@ void register_pair(const std::string& scene) {
         ->Unit(benchmark::kMillisecond);
 }
 
-/// Registers one scene's benchmarks, width by width in the order given (W = 1 first: the
+/// Registers every scene's benchmarks, width by width in the list's order (W = 1 first: the
 /// speed-ups divide by it; a width's two modes run back to back on the same hit points).
-template <class... Backends>
-void register_scene(const std::string& scene) {
-  (register_pair<Backends>(scene), ...);
+void register_all() {
+  using Widths = programs::BackendList<EmbreeBackend<1>, EmbreeBackend<4>, EmbreeBackend<8>, EmbreeBackend<16>, SaarcorBackend>;
+  for (const char* scene : {"cornell", "sponza_lit"})
+    programs::for_each_backend(Widths{}, [&]<class B>() { register_pair<B>(scene); });
 }
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  igi::bench::parse_options(argc, argv);
-  for (const char* scene : {"cornell", "sponza_lit"})
-    register_scene<EmbreeBackend<1>, EmbreeBackend<4>, EmbreeBackend<8>, EmbreeBackend<16>, SaarcorBackend>(scene);
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char** argv) { return igi::bench::run_benchmarks(argc, argv, register_all); }

@@ -10,11 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "common/command_line.hpp"
-#include <nlohmann/json.hpp>
 #include <oneapi/tbb/info.h>
 
+#include "common/command_line.hpp"
+#include "common/program_options.hpp"
 #include "common/render_options.hpp"
+#include "common/stats_json.hpp"
 #include "common/stop_signals.hpp"
 #include "igi/render/animation.hpp"
 #include "igi/distributed/tile_farm.hpp"
@@ -33,13 +34,6 @@ struct Options : RenderOptions {
   bool every_frame = false;      ///< Write every frame, not only the last.
   igi::FarmOptions farm;         ///< Demand-driven scheduling knobs and the slow-rank test hook.
 };
-
-/// Where frame `index` goes with --every-frame: "<stem>_<index, 4 digits><extension>".
-std::filesystem::path frame_path(const std::filesystem::path& output, std::uint32_t index) {
-  char number[16];
-  std::snprintf(number, sizeof number, "_%04u", index);
-  return output.parent_path() / (output.stem().string() + number + output.extension().string());
-}
 
 /// Writes a frame as igi-render does: PNG gets the tone-mapped pixels, EXR and PFM the radiance.
 void write_frame(const std::filesystem::path& path, const igi::Frame& frame) { write_output(path, frame.hdr, frame.rgb8); }
@@ -63,7 +57,10 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
     farm.serve();
     return stop_requested() ? stopped("igi-cluster") : 0;
   }
-  nlohmann::json frames = nlohmann::json::array();
+  // Checked in main() when --every-frame is given; without it the name may hold any '%'.
+  const std::optional<FrameNames> names =
+      options.every_frame ? std::optional<FrameNames>(FrameNames(options.output, options.frames)) : std::nullopt;
+  std::vector<StatsJson> frames;
   igi::Frame frame;
   for (int f = 0; f < options.frames; ++f) {
     const auto index = std::uint32_t(f);
@@ -73,53 +70,42 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
       return stopped("igi-cluster");
     }
     const igi::ClusterFrameReport& report = farm.report();
-    if (options.every_frame) write_frame(frame_path(options.output, index), frame);
+    if (names) write_frame((*names)(f), frame);
     std::string tiles;
     for (int r = 0; r < farm.size(); ++r) tiles += (r ? " " : "") + std::to_string(report.tiles_per_rank[std::size_t(r)]);
     if (options.stats != "json")
       std::printf("frame %u: %.2f ms, %.2f fps, %llu bytes to rank 0 (%llu pixel bytes%s), tiles per rank [%s]\n", index,
                   report.milliseconds, report.fps(), (unsigned long long)report.bytes_to_master,
                   (unsigned long long)report.pixel_bytes, report.hdr_sent ? ", HDR included" : "", tiles.c_str());
-    frames.push_back({{"frame", index},
-                      {"ms", report.milliseconds},
-                      {"fps", report.fps()},
-                      {"bytes_to_master", report.bytes_to_master},
-                      {"pixel_bytes", report.pixel_bytes},
-                      {"header_bytes", report.header_bytes},
-                      {"tile_messages", report.tile_messages},
-                      {"hdr_sent", report.hdr_sent},
-                      {"tiles_per_rank", report.tiles_per_rank},
-                      {"tile_ms_sum", report.tile_milliseconds},
-                      {"rays", report.rays.total()}});
+    frames.push_back(StatsJson()
+                         .set("frame", index)
+                         .set("ms", report.milliseconds)
+                         .set("fps", report.fps())
+                         .set("bytes_to_master", report.bytes_to_master)
+                         .set("pixel_bytes", report.pixel_bytes)
+                         .set("header_bytes", report.header_bytes)
+                         .set("tile_messages", report.tile_messages)
+                         .set("hdr_sent", report.hdr_sent)
+                         .set("tiles_per_rank", report.tiles_per_rank)
+                         .set("tile_ms_sum", report.tile_milliseconds)
+                         .set("rays", report.rays.total()));
   }
   farm.shutdown();
   write_frame(options.output, frame);
   const int threads = options.settings.threads > 0 ? options.settings.threads : tbb::info::default_concurrency();
   if (options.stats == "json") {
-    nlohmann::json stats = {
-        {"scene", scene.name},
-        {"triangles", scene.triangle_count()},
-        {"width", options.settings.width},
-        {"height", options.settings.height},
-        {"ranks", farm.size()},
-        {"workers", farm.size() > 1 ? farm.size() - 1 : 1},
-        {"tiles", renderer.tiles().size()},
-        {"tile_size", options.settings.tile_size},
-        {"backend", B::name()},
-        {"packet", B::width},
-        {"threads_per_rank", threads},
-        {"vpls_per_pixel", options.settings.vpls_per_pixel},
-        {"interleave", options.settings.interleave},
-        {"aa", options.settings.antialiasing},
-        {"filter", filter.chosen()},
-        {"animate", options.animate},
-        {"slow_rank", options.farm.slow_rank},
-        {"slow_factor", options.farm.slow_factor},
-        {"prefetch", options.farm.prefetch},
-        {"frames", frames},
-        {"output", options.output},
-    };
-    std::cout << stats.dump() << std::endl;
+    run_statistics(scene, options, B::name(), B::width, options.animate)
+        .update(sampling_statistics(options.settings, filter.chosen()))
+        .set("ranks", farm.size())
+        .set("workers", farm.size() > 1 ? farm.size() - 1 : 1)
+        .set("tiles", std::uint64_t(renderer.tiles().size()))
+        .set("tile_size", options.settings.tile_size)
+        .set("threads_per_rank", threads)
+        .set("slow_rank", options.farm.slow_rank)
+        .set("slow_factor", options.farm.slow_factor)
+        .set("prefetch", options.farm.prefetch)
+        .set("frames", frames)
+        .print();
   } else {
     std::printf("%s: %zu triangles, %dx%d, %s/%d, %d ranks x %d threads, wrote %s\n", scene.name.c_str(),
                 scene.triangle_count(), options.settings.width, options.settings.height, B::name(), B::width,
@@ -139,8 +125,9 @@ int main(int argc, char** argv) {
   Options options;
   CommandLine command_line{"igi-cluster", "igi-render's IGI pipeline as the paper's tile farm on MPI (mpirun -np N igi-cluster ...)"};
   add_render_options(command_line, options, "threads per rank (0: all cores)", "frames to render (indices 0..F-1)");
-  command_line.add("--animate", options.animate, "dynamic scene: a deterministic function of the frame index").choices({"none", "light", "camera", "object"}).show_default();
-  command_line.flag("--every-frame", options.every_frame, "also write every frame as <stem>_NNNN<ext>");
+  add_animate_option(command_line, options.animate, "dynamic scene: a deterministic function of the frame index");
+  command_line.flag("--every-frame", options.every_frame,
+                    "also write every frame, named as igi-render --animate names them (<stem>_NNNN<ext>, or a %04d pattern)");
   command_line.add("--tile", options.settings.tile_size, "tile edge in pixels").range(4, 1024).show_default();
   command_line.add("--tiles-per-request", options.farm.tiles_per_request, "tiles a worker asks for at once (0: its thread count)").range(0, 1 << 20).show_default();
   command_line.flag("--prefetch", options.farm.prefetch, "workers ask for the next tiles when they start a batch (hides the round trip)");
@@ -158,6 +145,7 @@ int main(int argc, char** argv) {
       throw UsageError("--slow-rank " + std::to_string(options.farm.slow_rank) + ": there are only " +
                        std::to_string(mpi.size()) + " ranks");
     igi::parse_animation(options.animate);
+    if (options.every_frame) static_cast<void>(FrameNames(options.output, options.frames));  // a malformed %d pattern fails here
   } catch (const std::exception& e) {
     say(e.what());
     return 2;

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "common/command_line.hpp"
-#include <nlohmann/json.hpp>
+#include "common/stats_json.hpp"
 
 #include "igi/io/image_files.hpp"
 #include "igi/io/metrics.hpp"
@@ -41,18 +41,20 @@ int main(int argc, char** argv) {
                         : box_fits    ? igi::ssim(test, reference, igi::SsimWindow::box8)
                                       : std::nan("");
     if (json) {
-      nlohmann::json out;
-      out["reference"] = reference_path;
-      out["test"] = test_path;
-      out["width"] = test.width;
-      out["height"] = test.height;
-      out["rmse"] = rmse;
-      out["relmse"] = relmse;
-      out["relmse_epsilon"] = options.epsilon;
-      out["relmse_ignore_brightest"] = ignore_brightest;
-      if (box_fits) out["ssim"] = ssim;
-      else out["ssim"] = nullptr;
-      std::cout << out.dump() << "\n";
+      igi::programs::StatsJson out;
+      out.set("reference", reference_path)
+          .set("test", test_path)
+          .set("width", test.width)
+          .set("height", test.height)
+          .set("rmse", rmse)
+          .set("relmse", relmse)
+          .set("relmse_epsilon", options.epsilon)
+          .set("relmse_ignore_brightest", ignore_brightest);
+      if (box_fits)
+        out.set("ssim", ssim);
+      else
+        out.set("ssim", nullptr);
+      out.print();
     } else {
       std::printf("RMSE   %.6g\nrelMSE %.6g\nSSIM   ", rmse, relmse);
       if (box_fits) std::printf("%.6g\n", ssim);

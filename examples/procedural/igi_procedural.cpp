@@ -2,7 +2,6 @@
 // procedural shaders and an animated ceiling lamp, rendered for a number of frames with the
 // procedural shaders and with constant diffuse materials; prints the frame rate of each (the
 // paper: 3.7 fps procedural vs 4.5 fps constant, on its cluster) and writes the images.
-#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -10,6 +9,7 @@
 #include <vector>
 
 #include "common/command_line.hpp"
+#include "common/program_options.hpp"
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/filters/tile_filters.hpp"
@@ -25,17 +25,7 @@ namespace {
 using RoomRenderer = igi::Renderer<igi::EmbreeBackend<16>, igi_procedural::RoomShader, igi::StandardBrdf,
                                    igi::QmcVplSampler, igi::DiscontinuityFilter>;
 
-/// A usage error: exit code 2 with a one-line message.
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-/// The median of some values.
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
+using igi::programs::median;
 
 /// Frames per second at a frame time of `milliseconds`.
 double fps(double milliseconds) { return milliseconds > 0.0 ? 1000.0 / milliseconds : 0.0; }
@@ -49,22 +39,17 @@ int main(int argc, char** argv) {
   int frames = 8;
   igi::RenderSettings settings;
   igi::programs::CommandLine command_line{"igi-procedural", "the paper's Figure 3, procedural shading in a globally illuminated room"};
-  command_line.add("--size", size, "image size WIDTHxHEIGHT").show_default();
+  igi::programs::add_size_option(command_line, size);
   command_line.add("--frames", frames, "frames per shading mode (the lamp moves every frame)").range(1, 100000).show_default();
   command_line.add("-o,--output", output, "image of the last procedural frame (.png, .exr or .pfm)").show_default();
   command_line.add("--constant-output", constant_output, "image of the last constant-diffuse frame (default: none)");
-  command_line.add("--vpls", settings.vpls_per_pixel, "VPLs per pixel (M)").show_default();
-  command_line.add("--interleave", settings.interleave, "interleaving pattern size S").show_default();
-  command_line.add("--aa", settings.antialiasing, "primary rays per pixel N").show_default();
-  command_line.add("--threads", settings.threads, "worker threads (0: all cores)").range(0, 1024).show_default();
+  igi::programs::add_sampling_options(command_line, settings);
+  igi::programs::add_threads_option(command_line, settings.threads, "worker threads (0: all cores)");
   if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
-    int width = 0, height = 0;
-    char x = 0, rest = 0;
-    if (std::sscanf(size.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || (x != 'x' && x != 'X'))
-      throw UsageError("--size: '" + size + "' is not WIDTHxHEIGHT");
-    settings.width = width;
-    settings.height = height;
+    const igi::programs::ImageSize image_size = igi::programs::parse_image_size(size);
+    settings.width = image_size.width;
+    settings.height = image_size.height;
     igi::validate(settings);
     igi::image_format(output);  // throws on an extension it cannot write, before any rendering
     if (!constant_output.empty()) igi::image_format(constant_output);
@@ -98,10 +83,7 @@ int main(int argc, char** argv) {
       constant_ms.push_back(constant_frame.statistics.milliseconds);
     }
     const auto write = [](const std::string& path, const igi::Frame& frame) {
-      if (igi::image_format(path) == igi::ImageFormat::png)
-        igi::write_image(path, frame.rgb8);
-      else
-        igi::write_image(path, frame.hdr);
+      igi::programs::write_output(path, frame.hdr, frame.rgb8);
       std::printf("wrote %s\n", path.c_str());
     };
     write(output, procedural_frame);

@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "common/command_line.hpp"
-#include <nlohmann/json.hpp>
 #include <oneapi/tbb/info.h>
 
+#include "common/command_line.hpp"
 #include "common/progress_bar.hpp"
 #include "common/render_options.hpp"
+#include "common/stats_json.hpp"
 #include "common/stop_signals.hpp"
 #include "igi/render/animation.hpp"
 #include "igi/lighting/qmc_vpl_sampler.hpp"
@@ -36,47 +36,31 @@ struct Options : RenderOptions {
 };
 
 /// CPU milliseconds of each pipeline stage of one frame, for the stats JSON.
-nlohmann::json stage_milliseconds(const igi::StageTimes& times) {
-  nlohmann::json stages = nlohmann::json::object();
-  times.each([&](const char* name, std::uint64_t ns) { stages[name] = double(ns) * 1e-6; });
-  stages["total"] = double(times.total()) * 1e-6;
+StatsJson stage_milliseconds(const igi::StageTimes& times) {
+  StatsJson stages;
+  times.each([&](const char* name, std::uint64_t ns) { stages.set(name, double(ns) * 1e-6); });
+  stages.set("total", double(times.total()) * 1e-6);
   return stages;
-}
-
-/// The median of some values.
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 /// Prints the statistics, as one JSON object with --stats json, else as two lines.
 void report(const igi::Scene& scene, const Options& options, const char* backend, int packet, double ms,
-            const igi::RayCounts& rays, const std::string& written, const nlohmann::json& extra) {
+            const igi::RayCounts& rays, const std::string& written, const StatsJson& extra) {
   const double mrays = ms > 0.0 ? double(rays.total()) / (ms * 1e3) : 0.0;
   const int threads = options.settings.threads > 0 ? options.settings.threads : tbb::info::default_concurrency();
   if (options.stats == "json") {
-    nlohmann::json stats = {
-        {"scene", scene.name},
-        {"triangles", scene.triangle_count()},
-        {"width", options.settings.width},
-        {"height", options.settings.height},
-        {"frames", options.frames},
-        {"ms_per_frame", ms},
-        {"fps", ms > 0.0 ? 1000.0 / ms : 0.0},
-        {"rays_primary", rays.primary},
-        {"rays_shadow", rays.shadow},
-        {"rays_secondary", rays.secondary},
-        {"mrays_per_s", mrays},
-        {"backend", backend},
-        {"packet", packet},
-        {"threads", threads},
-        {"integrator", options.integrator},
-        {"output", options.output},
-        {"animate", options.animate},
-    };
-    stats.update(extra);
-    std::cout << stats.dump() << std::endl;
+    StatsJson stats = run_statistics(scene, options, backend, packet, options.animate);
+    stats.set("frames", options.frames)
+        .set("ms_per_frame", ms)
+        .set("fps", ms > 0.0 ? 1000.0 / ms : 0.0)
+        .set("rays_primary", rays.primary)
+        .set("rays_shadow", rays.shadow)
+        .set("rays_secondary", rays.secondary)
+        .set("mrays_per_s", mrays)
+        .set("threads", threads)
+        .set("integrator", options.integrator)
+        .update(extra)
+        .print();
     return;
   }
   std::printf("%s: %zu triangles, %dx%d, %s/%d, %d threads, integrator %s\n", scene.name.c_str(),
@@ -120,15 +104,15 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
   const std::string written = sequence ? names(0).string() + " .. " + names(options.frames - 1).string() + " (" +
                                              std::to_string(options.frames) + " frames)"
                                        : options.output;
-  report(scene, options, B::name(), B::width, median(milliseconds), frame.statistics.rays, written,
-         {{"vpls_per_pixel", options.settings.vpls_per_pixel},
-          {"interleave", options.settings.interleave},
-          {"aa", options.settings.antialiasing},
-          {"filter", filter.chosen()},
-          {"clamp", options.settings.clamp_distance},
-          {"vpls_per_frame", frame.statistics.vpls},
-          {"vpl_ms", frame.statistics.vpl_milliseconds},
-          {"stage_cpu_ms", options.profile ? stage_milliseconds(frame.statistics.stages) : nlohmann::json(nullptr)}});
+  StatsJson extra = sampling_statistics(options.settings, filter.chosen());
+  extra.set("clamp", options.settings.clamp_distance)
+      .set("vpls_per_frame", frame.statistics.vpls)
+      .set("vpl_ms", frame.statistics.vpl_milliseconds);
+  if (options.profile)
+    extra.set("stage_cpu_ms", stage_milliseconds(frame.statistics.stages));
+  else
+    extra.set("stage_cpu_ms", nullptr);
+  report(scene, options, B::name(), B::width, median(milliseconds), frame.statistics.rays, written, extra);
   return 0;
 }
 
@@ -179,7 +163,7 @@ int run_path(igi::Scene& scene, const igi::Camera& camera, const Options& option
   const auto passes = std::uint64_t(options.frames);
   per_pass = {per_pass.primary / passes, per_pass.shadow / passes, per_pass.secondary / passes};
   report(scene, options, B::name(), B::width, median(milliseconds), per_pass, options.output,
-         {{"spp", options.spp}, {"spp_total", tracer.samples()}});
+         StatsJson().set("spp", options.spp).set("spp_total", tracer.samples()));
   return 0;
 }
 
@@ -197,12 +181,10 @@ int main(int argc, char** argv) {
   CommandLine command_line{"igi-render", "interactive global illumination (instant radiosity with interleaved sampling)"};
   add_render_options(command_line, options, "worker threads (0: all cores)",
                      "frames to render (timings are their median; with --integrator path: passes of --spp samples)");
-  command_line.add("--animate", options.animate,
-                 "render --frames frames of a moving scene to an image sequence: -o out.png writes out_0000.png, "
-                 "out_0001.png, ...; -o frames/%04d.png numbers them printf-style. light: the lights circle, "
-                 "object: the smallest object slides, camera: the view orbits the scene")
-      .choices({"none", "light", "object", "camera"})
-      .show_default();
+  add_animate_option(command_line, options.animate,
+                     "render --frames frames of a moving scene to an image sequence: -o out.png writes out_0000.png, "
+                     "out_0001.png, ...; -o frames/%04d.png numbers them printf-style. light: the lights circle, "
+                     "object: the smallest object slides, camera: the view orbits the scene");
   command_line.flag("--profile", options.profile,
                     "time each pipeline stage; --stats json then reports the last frame's CPU ms per stage as "
                     "stage_cpu_ms (the clock reads make the frames 2-9% slower)");

@@ -1,7 +1,7 @@
 // igi-view: an interactive window on the IGI pipeline. Renders a glTF scene or the built-in
 // Cornell box continuously; the camera, the light and the settings change at a key press, and a
 // still view converges by progressive accumulation of new VPL sets. `--frames N` makes it a
-// fixed-length (testable) run, `--script` animates the light or camera, `--screenshot` saves
+// fixed-length (testable) run, `--animate` moves the light or camera, `--screenshot` saves
 // what the window shows.
 #include <algorithm>
 #include <cmath>
@@ -15,7 +15,9 @@
 
 #include <SDL.h>
 
+#include "common/backend_choice.hpp"
 #include "common/command_line.hpp"
+#include "common/program_options.hpp"
 #include "common/stop_signals.hpp"
 
 #include "igi/backends/embree/embree_backend.hpp"
@@ -23,11 +25,10 @@
 #include "igi/backends/saarcor/saarcor_backend.hpp"
 #include "igi/io/image_files.hpp"
 #include "igi/lighting/qmc_vpl_sampler.hpp"
+#include "igi/render/animation.hpp"
 #include "igi/render/filter_choice.hpp"
 #include "igi/render/renderer.hpp"
 #include "igi/scene/camera.hpp"
-#include "igi/scene/cornell.hpp"
-#include "igi/scene/gltf.hpp"
 #include "igi/shading/brdf_shaders.hpp"
 #include "igi/shading/gltf_material_shader.hpp"
 
@@ -37,14 +38,12 @@ namespace {
 
 using igi::programs::UsageError;
 
-/// A backend and packet width the viewer can switch to (each one is a separate Renderer type).
-struct BackendChoice {
-  const char* backend;  ///< "embree", "reference" or "saarcor".
-  int packet;           ///< Packet width W.
-};
-/// The cycle of the B key, fastest first on AVX-512 machines.
-constexpr BackendChoice backend_choices[] = {{"embree", 16}, {"embree", 8}, {"embree", 4},
-                                             {"embree", 1},  {"reference", 8}, {"saarcor", 64}};
+/// The backends and packet widths the viewer can switch to (each one is a separate Renderer
+/// type), in the cycle of the B key, fastest first on AVX-512 machines.
+using ViewBackends = igi::programs::BackendList<igi::EmbreeBackend<16>, igi::EmbreeBackend<8>, igi::EmbreeBackend<4>,
+                                                igi::EmbreeBackend<1>, igi::ReferenceBackend<8>, igi::SaarcorBackend>;
+/// The cycle of the B key as names and widths.
+constexpr auto backend_choices = igi::programs::backend_choices(ViewBackends{});
 /// Filters of the F key.
 constexpr const char* filter_choices[] = {"discontinuity", "box", "none"};
 /// Anti-aliasing factors of the N key.
@@ -87,43 +86,26 @@ class TypedViewRenderer final : public ViewRenderer {
 };
 
 /// A renderer for `choice`.
-std::unique_ptr<ViewRenderer> make_renderer(const BackendChoice& choice, igi::Scene& scene,
+std::unique_ptr<ViewRenderer> make_renderer(const igi::programs::BackendChoice& choice, igi::Scene& scene,
                                             const igi::RenderSettings& settings, const std::string& filter) {
-  const std::string backend = choice.backend;
-  if (backend == "saarcor") return std::make_unique<TypedViewRenderer<igi::SaarcorBackend>>(scene, settings, filter);
-  if (backend == "reference") return std::make_unique<TypedViewRenderer<igi::ReferenceBackend<8>>>(scene, settings, filter);
-  switch (choice.packet) {
-    case 1: return std::make_unique<TypedViewRenderer<igi::EmbreeBackend<1>>>(scene, settings, filter);
-    case 4: return std::make_unique<TypedViewRenderer<igi::EmbreeBackend<4>>>(scene, settings, filter);
-    case 8: return std::make_unique<TypedViewRenderer<igi::EmbreeBackend<8>>>(scene, settings, filter);
-    default: return std::make_unique<TypedViewRenderer<igi::EmbreeBackend<16>>>(scene, settings, filter);
-  }
+  return igi::programs::with_backend_of(ViewBackends{}, choice.backend, choice.packet,
+                                        [&]<class B>() -> std::unique_ptr<ViewRenderer> {
+                                          return std::make_unique<TypedViewRenderer<B>>(scene, settings, filter);
+                                        });
 }
 
 /// Everything the command line decides.
-struct Options {
-  std::string scene_file;
-  std::string builtin;
-  std::string size = "640x480";
-  std::string filter = "discontinuity";
-  std::string backend = "embree";
-  std::string script = "none";
-  std::string screenshot;
-  std::string keys;
-  int packet = 16;
-  int frames = 0;
-  igi::RenderSettings settings;
+struct Options : igi::programs::SceneOptions {
+  std::string size = "640x480";          ///< WIDTHxHEIGHT as typed.
+  std::string filter = "discontinuity";  ///< Filter at the start (the F key cycles).
+  std::string backend = "embree";        ///< Backend at the start (the B key cycles).
+  std::string animate = "none";          ///< What moves from the first frame: none, light or camera.
+  std::string screenshot;                ///< PNG of the last of --frames frames, or empty.
+  std::string keys;                      ///< Scripted key presses, one per frame.
+  int packet = 16;                       ///< Packet width at the start.
+  int frames = 0;                        ///< Frames before quitting (0: until closed).
+  igi::RenderSettings settings;          ///< The IGI settings at the start.
 };
-
-/// Parses "WIDTHxHEIGHT".
-void parse_size(const std::string& text, igi::RenderSettings& settings) {
-  int width = 0, height = 0;
-  char x = 0, rest = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || (x != 'x' && x != 'X'))
-    throw UsageError("--size: '" + text + "' is not WIDTHxHEIGHT");
-  settings.width = width;
-  settings.height = height;
-}
 
 /// Index of the first element of `range` equal to `value` under `same`, or -1.
 template <class Range, class Value, class Same>
@@ -204,7 +186,7 @@ class Viewer {
         options_(options),
         settings_(options.settings),
         filter_(index_of(filter_choices, options.filter, [](const char* a, const std::string& b) { return b == a; })),
-        backend_(index_of(backend_choices, options, [](const BackendChoice& c, const Options& o) {
+        backend_(index_of(backend_choices, options, [](const igi::programs::BackendChoice& c, const Options& o) {
           return o.backend == c.backend && (o.backend != "embree" || o.packet == c.packet);
         })),
         light_(igi_view::find_movable_light(scene)),
@@ -217,10 +199,11 @@ class Viewer {
     if (filter_ < 0) throw UsageError("--filter: unknown filter '" + options.filter + "'");
     if (backend_ < 0)
       throw UsageError("--backend/--packet: " + options.backend + "/" + std::to_string(options.packet) +
-                       " is not one of embree/1,4,8,16, reference/8, saarcor/64");
-    animate_light_ = options.script == "light-orbit";
-    animate_camera_ = options.script == "camera-orbit";
-    if (animate_light_ && !light_) throw UsageError("--script light-orbit: the scene has no light that can move");
+                       " is not one of " + igi::programs::describe_backends(ViewBackends{}));
+    const igi::Animation animation = igi::parse_animation(options.animate);
+    animate_light_ = animation == igi::Animation::light;
+    animate_camera_ = animation == igi::Animation::camera;
+    if (animate_light_ && !light_) throw UsageError("--animate light: the scene has no light that can move");
     rebuild();
   }
 
@@ -242,8 +225,8 @@ class Viewer {
       const bool capture = screenshot_requested_ || (last && !options_.screenshot.empty());
       const std::optional<igi::Rgb8Image> captured = window_.show(shown, capture);
       if (captured) {
-        const std::string path = last && !options_.screenshot.empty() ? options_.screenshot
-                                                                       : "igi-view-" + std::to_string(frame) + ".png";
+        const std::string path =
+            last && !options_.screenshot.empty() ? options_.screenshot : screenshot_names_(int(frame)).string();
         igi::write_image(path, *captured);
         std::printf("wrote %s\n", path.c_str());
         screenshot_requested_ = false;
@@ -252,8 +235,7 @@ class Viewer {
       if (last) break;
     }
     if (!milliseconds.empty()) {
-      std::sort(milliseconds.begin(), milliseconds.end());
-      const double median = milliseconds[milliseconds.size() / 2];
+      const double median = igi::programs::median(milliseconds);
       std::printf("%zu frames, median %.2f ms (%.1f fps), last image accumulated over %d frames\n",
                   milliseconds.size(), median, median > 0.0 ? 1000.0 / median : 0.0, accumulator_.count());
     }
@@ -419,6 +401,8 @@ class Viewer {
 
   igi::Scene& scene_;
   Options options_;
+  /// Names of the P key's screenshots, numbered by frame as igi-render numbers an animation's images.
+  igi::programs::FrameNames screenshot_names_{"igi-view.png", 1};
   igi::RenderSettings settings_;
   int filter_;
   int backend_;
@@ -443,25 +427,25 @@ int main(int argc, char** argv) {
   igi::programs::install_stop_signals();
   Options options;
   igi::programs::CommandLine command_line{"igi-view", "interactive global illumination in a window"};
-  command_line.add("scene", options.scene_file, "glTF scene (.gltf or .glb)");
-  command_line.add("--builtin", options.builtin, "built-in scene instead of a file").choices({"cornell"});
-  command_line.add("--size", options.size, "image size WIDTHxHEIGHT").show_default();
-  command_line.add("--vpls", options.settings.vpls_per_pixel, "VPLs per pixel (M)").show_default();
-  command_line.add("--interleave", options.settings.interleave, "interleaving pattern size S").show_default();
-  command_line.add("--aa", options.settings.antialiasing, "primary rays per pixel N").show_default();
-  command_line.add("--filter", options.filter, "irradiance filter").choices({"discontinuity", "box", "none"}).show_default();
-  command_line.add("--backend", options.backend, "ray-tracing backend").choices({"embree", "saarcor", "reference"}).show_default();
-  command_line.add("--packet", options.packet, "packet width W (embree: 1, 4, 8, 16; reference: 8; saarcor: 64)").show_default();
-  command_line.add("--threads", options.settings.threads, "worker threads (0: all cores)").range(0, 1024).show_default();
-  command_line.add("--seed", options.settings.seed, "randomisation seed").show_default();
+  igi::programs::add_scene_options(command_line, options);
+  igi::programs::add_size_option(command_line, options.size);
+  igi::programs::add_sampling_options(command_line, options.settings);
+  igi::programs::add_filter_option(command_line, options.filter);
+  igi::programs::add_backend_options(command_line, options.backend, options.packet);
+  igi::programs::add_threads_option(command_line, options.settings.threads, "worker threads (0: all cores)");
+  igi::programs::add_seed_option(command_line, options.settings.seed);
   command_line.add("--frames", options.frames, "quit after this many frames (0: run until closed)").range(0, 1000000).show_default();
-  command_line.add("--script", options.script, "animation from the first frame").choices({"none", "light-orbit", "camera-orbit"}).show_default();
+  igi::programs::add_animate_option(command_line, options.animate,
+                                    "what moves from the first frame: light: the light circles, camera: the view orbits the scene",
+                                    {"none", "light", "camera"});
   command_line.add("--keys", options.keys, "key presses, one per frame from the first (any of bfilnpr+-), to script a session");
   command_line.add("--screenshot", options.screenshot, "PNG of the window after the last of --frames frames (interactively: P key)");
   if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
-    parse_size(options.size, options.settings);
-    if (options.scene_file.empty() == options.builtin.empty()) throw UsageError("give either a SCENE file or --builtin cornell");
+    const igi::programs::ImageSize size = igi::programs::parse_image_size(options.size);
+    options.settings.width = size.width;
+    options.settings.height = size.height;
+    igi::programs::check_scene_options(options);
     // The reference and saarcor backends come in one packet width each here.
     if (options.backend == "reference") options.packet = 8;
     if (options.backend == "saarcor") options.packet = 64;
@@ -477,7 +461,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    igi::Scene scene = options.builtin.empty() ? igi::load_gltf(options.scene_file) : igi::cornell_box();
+    igi::Scene scene = igi::programs::load_scene(options);
     Viewer viewer(scene, options);
     return viewer.run();
   } catch (const UsageError& e) {

@@ -1,13 +1,12 @@
 // single-process-frames: the frames igi-cluster renders, made by one process with igi::Renderer
 // and the same deterministic scene changes (igi/render/animation.hpp). The distributed
 // tests compare the cluster's frames with these pixel for pixel.
-#include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
 
 #include "common/command_line.hpp"
+#include "common/program_options.hpp"
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/render/animation.hpp"
@@ -16,19 +15,17 @@
 #include "igi/render/filter_choice.hpp"
 #include "igi/render/renderer.hpp"
 #include "igi/scene/camera.hpp"
-#include "igi/scene/cornell.hpp"
-#include "igi/scene/gltf.hpp"
 #include "igi/shading/brdf_shaders.hpp"
 #include "igi/shading/gltf_material_shader.hpp"
 
 int main(int argc, char** argv) {
-  std::string scene_file, builtin, output = "frame.png", size = "160x120", animate = "none", filter_name = "discontinuity";
+  igi::programs::SceneOptions scene_options;
+  std::string output = "frame.png", size = "160x120", animate = "none", filter_name = "discontinuity";
   int frames = 1;
   igi::RenderSettings settings;
   igi::programs::CommandLine command_line{"single-process-frames", "igi-cluster's frames from one process (Renderer + the same animation)"};
-  command_line.add("scene", scene_file, "glTF scene");
-  command_line.add("--builtin", builtin, "built-in scene").choices({"cornell"});
-  command_line.add("-o,--output", output, "frames go to <stem>_NNNN<ext>");
+  igi::programs::add_scene_options(command_line, scene_options);
+  command_line.add("-o,--output", output, "frames go to <stem>_NNNN<ext> (as igi-render --animate names them)");
   command_line.add("--size", size, "WIDTHxHEIGHT");
   command_line.add("--vpls", settings.vpls_per_pixel, "VPLs per pixel");
   command_line.add("--interleave", settings.interleave, "interleaving S");
@@ -41,10 +38,11 @@ int main(int argc, char** argv) {
   command_line.add("--animate", animate, "animation").choices({"none", "light", "camera", "object"});
   if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
-    if (std::sscanf(size.c_str(), "%dx%d", &settings.width, &settings.height) != 2)
-      throw igi::SettingsError("--size '" + size + "' is not WIDTHxHEIGHT");
-    if (scene_file.empty() == builtin.empty()) throw igi::SettingsError("give either a SCENE file or --builtin cornell");
-    igi::Scene scene = builtin.empty() ? igi::load_gltf(scene_file) : igi::cornell_box();
+    const igi::programs::ImageSize image_size = igi::programs::parse_image_size(size);
+    settings.width = image_size.width;
+    settings.height = image_size.height;
+    igi::programs::check_scene_options(scene_options);
+    igi::Scene scene = igi::programs::load_scene(scene_options);
     const igi::Camera camera = scene.cameras.empty() ? igi::default_camera(scene) : scene.cameras.front();
     const igi::Scene initial = scene;
     const igi::Animation animation = igi::parse_animation(animate);
@@ -56,14 +54,12 @@ int main(int argc, char** argv) {
     igi::Renderer<igi::EmbreeBackend<16>, igi::GltfMaterialShader, igi::StandardBrdf, igi::QmcVplSampler,
                   igi::FilterChoice>
         renderer(scene, settings, surface, brdf, sampler, filter);
-    const std::filesystem::path out(output);
+    const igi::programs::FrameNames names(output, frames);
     for (int f = 0; f < frames; ++f) {
       // Only values that differ are set, as TileRenderer::apply does (an unchanged scene is not re-committed).
       const igi::Camera view = igi::apply_changes(renderer, animator(std::uint32_t(f)));
       const igi::Frame frame = renderer.render(view, std::uint32_t(f));
-      char number[16];
-      std::snprintf(number, sizeof number, "_%04d", f);
-      igi::write_image(out.parent_path() / (out.stem().string() + number + out.extension().string()), frame.rgb8);
+      igi::write_image(names(f), frame.rgb8);
     }
   } catch (const std::exception& e) {
     std::cerr << "single-process-frames: " << e.what() << "\n";

@@ -1,0 +1,137 @@
+// The shared command-line pieces of igi's programs (see program_options.hpp).
+#include "common/program_options.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <optional>
+#include <string_view>
+#include <system_error>
+
+#include "igi/io/image.hpp"
+#include "igi/scene/cornell.hpp"
+#include "igi/scene/gltf.hpp"
+
+namespace igi::programs {
+
+namespace {
+
+/// The whole number that `text` is exactly (digits only, no sign), if it is one that fits an int.
+std::optional<int> whole_number(std::string_view text) {
+  if (text.empty() || !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return std::nullopt;
+  int value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
+ImageSize parse_image_size(const std::string& text, const std::string& option) {
+  const std::size_t x = text.find_first_of("xX");
+  const std::optional<int> width = x == std::string::npos ? std::nullopt : whole_number(std::string_view(text).substr(0, x));
+  const std::optional<int> height = x == std::string::npos ? std::nullopt : whole_number(std::string_view(text).substr(x + 1));
+  if (!width || !height) throw UsageError(option + ": '" + text + "' is not WIDTHxHEIGHT");
+  if (*width < 1 || *height < 1)
+    throw UsageError(option + ": '" + text + "' is not WIDTHxHEIGHT with WIDTH and HEIGHT at least 1");
+  return {*width, *height};
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const std::size_t n = values.size();
+  std::sort(values.begin(), values.end());
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+void add_scene_options(CommandLine& command_line, SceneOptions& scene) {
+  command_line.add("scene", scene.scene_file, "glTF scene (.gltf or .glb)");
+  command_line.add("--builtin", scene.builtin, "built-in scene instead of a file").choices({"cornell"});
+}
+
+void check_scene_options(const SceneOptions& scene) {
+  if (scene.scene_file.empty() == scene.builtin.empty()) throw UsageError("give either a SCENE file or --builtin cornell");
+}
+
+Scene load_scene(const SceneOptions& scene) { return scene.builtin.empty() ? load_gltf(scene.scene_file) : cornell_box(); }
+
+void add_size_option(CommandLine& command_line, std::string& size) {
+  command_line.add("--size", size, "image size WIDTHxHEIGHT").show_default();
+}
+
+void add_sampling_options(CommandLine& command_line, RenderSettings& settings) {
+  command_line.add("--vpls", settings.vpls_per_pixel, "VPLs per pixel (M, the target size of one interleaving set; a set holds at least one whole light path, so small M round up: about 2-3 VPLs in a closed room)").show_default();
+  command_line.add("--interleave", settings.interleave, "interleaving pattern size S (S x S VPL sets)").show_default();
+  command_line.add("--aa", settings.antialiasing, "primary rays per pixel N (interleaved super-sampling)").show_default();
+}
+
+void add_filter_option(CommandLine& command_line, std::string& filter) {
+  command_line.add("--filter", filter, "irradiance filter").choices({"discontinuity", "box", "none"}).show_default();
+}
+
+void add_backend_options(CommandLine& command_line, std::string& backend, int& packet) {
+  command_line.add("--backend", backend, "ray-tracing backend").choices({"embree", "saarcor", "reference"}).show_default();
+  command_line.add("--packet", packet, "packet width W").choices({1, 4, 8, 16, 64}).show_default();
+}
+
+void add_threads_option(CommandLine& command_line, int& threads, const std::string& help) {
+  command_line.add("--threads", threads, help).range(0, 1024).show_default();
+}
+
+void add_seed_option(CommandLine& command_line, std::uint32_t& seed) {
+  command_line.add("--seed", seed, "randomisation seed").show_default();
+}
+
+void add_animate_option(CommandLine& command_line, std::string& animate, const std::string& help,
+                        std::initializer_list<std::string> names) {
+  command_line.add("--animate", animate, help).choices(names).show_default();
+}
+
+void write_output(const std::filesystem::path& path, const Image& hdr, const Rgb8Image& rgb8) {
+  if (image_format(path) == ImageFormat::png)
+    write_image(path, rgb8);
+  else
+    write_image(path, hdr);
+}
+
+FrameNames::FrameNames(const std::string& output, int frames) {
+  int conversions = 0;
+  std::string* text = &before_;
+  for (std::size_t i = 0; i < output.size(); ++i) {
+    if (output[i] != '%') {
+      *text += output[i];
+      continue;
+    }
+    if (i + 1 < output.size() && output[i + 1] == '%') {
+      *text += '%';
+      ++i;
+      continue;
+    }
+    std::size_t j = i + 1;
+    int digits = 1;
+    if (j + 1 < output.size() && output[j] == '0' && output[j + 1] >= '1' && output[j + 1] <= '9') {
+      digits = output[j + 1] - '0';
+      j += 2;
+    }
+    if (j >= output.size() || output[j] != 'd')
+      throw UsageError("--output '" + output + "': write the frame number as %d or %0Nd (N = 1..9), a percent sign as %%");
+    if (++conversions > 1) throw UsageError("--output '" + output + "' has more than one frame number");
+    digits_ = digits;
+    text = &after_;
+    i = j;
+  }
+  if (conversions == 0) {
+    const std::filesystem::path path(before_);
+    before_ = (path.parent_path() / path.stem()).string() + "_";
+    after_ = path.extension().string();
+    digits_ = std::max(4, int(std::to_string(std::max(frames - 1, 0)).size()));
+  }
+}
+
+std::filesystem::path FrameNames::operator()(int frame) const {
+  std::string number = std::to_string(frame);
+  if (int(number.size()) < digits_) number.insert(0, std::size_t(digits_) - number.size(), '0');
+  return before_ + number + after_;
+}
+
+}  // namespace igi::programs
