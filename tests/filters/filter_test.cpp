@@ -26,19 +26,21 @@ float pattern(int x, int y, int s) {
   return ((x + y) % 2 == 0) ? 0.5f : 1.5f;  // S = 2: a checkerboard of mean 1
 }
 
-// A G-buffer of w x h interior pixels plus a border of 1, all hit, normal +z, depth 10.
+// Makes pixel i of `g` a hit on a wall facing the camera: normal +z, depth 10, albedo 0.5.
+void set_wall_pixel(TileGBuffer& g, std::size_t i) {
+  g.hit[i] = 1;
+  g.normal[i] = {0, 0, 1};
+  g.depth[i] = 10.0f;
+  g.albedo[i] = glm::vec3(0.5f);
+}
+
+// A G-buffer of w x h interior pixels plus a border of 1, all wall pixels.
 TileGBuffer wall(int w, int h) {
   TileGBuffer g;
   g.border = 1;
   g.resize(w + 2, h + 2);
   for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x) {
-      const std::size_t i = g.index(x, y);
-      g.hit[i] = 1;
-      g.normal[i] = {0, 0, 1};
-      g.depth[i] = 10.0f;
-      g.albedo[i] = glm::vec3(0.5f);
-    }
+    for (int x = 0; x < g.width; ++x) set_wall_pixel(g, g.index(x, y));
   return g;
 }
 
@@ -199,11 +201,8 @@ TEMPLATE_LIST_TEST_CASE("filters: partial tiles at the image's corner keep their
       for (int y = 0; y < g.height; ++y)
         for (int x = 0; x < g.width; ++x) {
           if (x >= border + size.x || y >= border + size.y) continue;  // outside the image
-          const std::size_t i = g.index(x, y);
-          g.hit[i] = 1;
-          g.normal[i] = {0, 0, 1};
-          g.depth[i] = 10.0f;
-          g.irradiance[i] = glm::vec3(3.0f);
+          set_wall_pixel(g, g.index(x, y));
+          g.irradiance[g.index(x, y)] = glm::vec3(3.0f);
         }
       FilteredTile out;
       TestType{}.apply(g, s, out);

@@ -13,7 +13,7 @@
 #include "igi/scene/gltf.hpp"
 #include "igi/shading/procedural_shaders.hpp"
 #include "scenes.hpp"
-#include "test_scenes.hpp"
+#include "scene_builders.hpp"
 
 using namespace igi;
 
