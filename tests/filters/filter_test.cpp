@@ -64,12 +64,12 @@ std::vector<glm::vec3> interior(const TileGBuffer& g) {
 
 }  // namespace
 
-TEMPLATE_LIST_TEST_CASE("filters: every filter satisfies the Filter concept", "[filters]", igi::testing::AllFilters) {
+TEMPLATE_TEST_CASE("filters: every filter satisfies the Filter concept", "[filters]", IGI_ALL_FILTERS) {
   STATIC_REQUIRE(Filter<TestType>);
 }
 
-TEMPLATE_LIST_TEST_CASE("filters: the interleaving pattern on a flat wall is removed, except by the unfiltered copy",
-                        "[filters]", igi::testing::AllFilters) {
+TEMPLATE_TEST_CASE("filters: the interleaving pattern on a flat wall is removed, except by the unfiltered copy",
+                   "[filters]", IGI_ALL_FILTERS) {
   for (const int s : {2, 3}) {
     INFO(TestType::name() << ", S = " << s);
     TileGBuffer g = wall(12, 12);
@@ -116,8 +116,8 @@ TileGBuffer depth_step() {
 
 }  // namespace
 
-TEMPLATE_LIST_TEST_CASE("filters: on a depth step no irradiance crosses the edge, except through the box filter",
-                        "[filters]", igi::testing::AllFilters) {
+TEMPLATE_TEST_CASE("filters: on a depth step no irradiance crosses the edge, except through the box filter",
+                   "[filters]", IGI_ALL_FILTERS) {
   const TileGBuffer g = depth_step();
   FilteredTile out;
   TestType{}.apply(g, 3, out);
@@ -148,8 +148,8 @@ TEMPLATE_LIST_TEST_CASE("filters: on a depth step no irradiance crosses the edge
   }
 }
 
-TEMPLATE_LIST_TEST_CASE("filters: misses, broken normals and depths and huge values give finite output", "[filters]",
-                        igi::testing::AllFilters) {
+TEMPLATE_TEST_CASE("filters: misses, broken normals and depths and huge values give finite output", "[filters]",
+                   IGI_ALL_FILTERS) {
   constexpr float nan = std::numeric_limits<float>::quiet_NaN();
   constexpr float infinity = std::numeric_limits<float>::infinity();
   TileGBuffer g = wall(9, 9);
@@ -185,8 +185,8 @@ TEMPLATE_LIST_TEST_CASE("filters: misses, broken normals and depths and huge val
   }
 }
 
-TEMPLATE_LIST_TEST_CASE("filters: partial tiles at the image's corner keep their size and a constant wall's value",
-                        "[filters]", igi::testing::AllFilters) {
+TEMPLATE_TEST_CASE("filters: partial tiles at the image's corner keep their size and a constant wall's value",
+                   "[filters]", IGI_ALL_FILTERS) {
   // A tile cut by the image's right and bottom edge: the pipeline gives the filter a G-buffer of
   // the interior plus `border` pixels per side, where the right and bottom border lie outside the
   // image (zeros: no hit). On a wall of constant irradiance 3 every filter must return 3 wherever
@@ -232,7 +232,7 @@ TEMPLATE_LIST_TEST_CASE("filters: partial tiles at the image's corner keep their
   }
 }
 
-TEMPLATE_LIST_TEST_CASE("filters: bad input is an error with a message", "[filters]", igi::testing::AllFilters) {
+TEMPLATE_TEST_CASE("filters: bad input is an error with a message", "[filters]", IGI_ALL_FILTERS) {
   INFO(TestType::name());
   TileGBuffer g = wall(4, 4);
   FilteredTile out;

@@ -259,8 +259,8 @@ TEST_CASE("BRDF: the packet pow matches std::pow on 0..1 for exponents up to 1e4
 // ---------------------------------------------------------------------------------------------
 // Properties of every BRDF shader.
 
-TEMPLATE_LIST_TEST_CASE("BRDF: every shader satisfies the BrdfShader concept at every width", "[shading][brdf]",
-                        igi::testing::AllBrdfShaders) {
+TEMPLATE_TEST_CASE("BRDF: every shader satisfies the BrdfShader concept at every width", "[shading][brdf]",
+                   IGI_ALL_BRDF_SHADERS) {
   STATIC_REQUIRE(BrdfShader<TestType, 1>);
   STATIC_REQUIRE(BrdfShader<TestType, 4>);
   STATIC_REQUIRE(BrdfShader<TestType, 8>);
@@ -304,8 +304,8 @@ constexpr double furnace_tolerance = 2e-3;
 
 }  // namespace
 
-TEMPLATE_LIST_TEST_CASE("BRDF: white furnace - no lobe setting reflects more energy than arrives", "[shading][brdf]",
-                        igi::testing::AllBrdfShaders) {
+TEMPLATE_TEST_CASE("BRDF: white furnace - no lobe setting reflects more energy than arrives", "[shading][brdf]",
+                   IGI_ALL_BRDF_SHADERS) {
   // Energy reflected for light arriving from wo = the hemisphere integral of f_r x cos (what
   // evaluate returns, by reciprocity the same integral over wi) plus the weights of the
   // spawned mirror and glass rays, which carry the delta lobes.
@@ -356,8 +356,8 @@ float relative_distance(const glm::vec3& a, const glm::vec3& b) { return glm::le
 
 }  // namespace
 
-TEMPLATE_LIST_TEST_CASE("BRDF: a packet of 4, 8, 16 or 64 lanes gives what single-lane calls give", "[shading][brdf]",
-                        igi::testing::AllBrdfShaders) {
+TEMPLATE_TEST_CASE("BRDF: a packet of 4, 8, 16 or 64 lanes gives what single-lane calls give", "[shading][brdf]",
+                   IGI_ALL_BRDF_SHADERS) {
   const TestType brdf{};
   const Vpl vpl{.position = {0.3f, 1.2f, -0.4f}, .normal = glm::normalize(glm::vec3(0.2f, -1, 0.1f)), .intensity = {1, 2, 3}};
   const auto check_width = [&]<int N>(Width<N>) {
@@ -419,8 +419,8 @@ TEMPLATE_LIST_TEST_CASE("BRDF: a packet of 4, 8, 16 or 64 lanes gives what singl
   check_width(Width<64>{});  // the SaarCOR backend's width
 }
 
-TEMPLATE_LIST_TEST_CASE("BRDF: grazing and degenerate input never yields NaN or Inf", "[shading][brdf]",
-                        igi::testing::AllBrdfShaders) {
+TEMPLATE_TEST_CASE("BRDF: grazing and degenerate input never yields NaN or Inf", "[shading][brdf]",
+                   IGI_ALL_BRDF_SHADERS) {
   constexpr float nan = std::numeric_limits<float>::quiet_NaN();
   constexpr float infinity = std::numeric_limits<float>::infinity();
   const TestType brdf{};
