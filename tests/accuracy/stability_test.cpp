@@ -13,31 +13,6 @@ using namespace igi::testing;
 
 namespace {
 
-/// Adds quad (a, b, c, d) to `mesh` with its winding facing `normal`.
-void add_quad(Mesh& mesh, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, const glm::vec3& normal) {
-  if (glm::dot(glm::cross(b - a, c - a), normal) < 0.0f) std::swap(b, d);
-  const auto base = std::uint32_t(mesh.positions.size());
-  for (const glm::vec3& p : {a, b, c, d}) {
-    mesh.positions.push_back(p);
-    mesh.normals.push_back(glm::normalize(normal));
-  }
-  mesh.triangles.push_back({base, base + 1, base + 2});
-  mesh.triangles.push_back({base, base + 2, base + 3});
-}
-
-/// Adds `mesh` with a new diffuse material of `albedo` (and `emission`) as one instance.
-void add_object(Scene& scene, Mesh mesh, float albedo, const glm::vec3& emission = glm::vec3(0.0f)) {
-  Material material;
-  material.name = mesh.name;
-  material.base_color = glm::vec4(albedo, albedo, albedo, 1.0f);
-  material.metallic = 0.0f;
-  material.emission = emission;
-  mesh.material = int(scene.materials.size());
-  scene.materials.push_back(material);
-  scene.instances.push_back({.name = mesh.name, .mesh = int(scene.meshes.size())});
-  scene.meshes.push_back(std::move(mesh));
-}
-
 /// A camera at `eye` looking at `target` (+Y up).
 Camera look_at(const glm::vec3& eye, const glm::vec3& target, float yfov = 1.0f) {
   Camera camera;
@@ -45,26 +20,6 @@ Camera look_at(const glm::vec3& eye, const glm::vec3& target, float yfov = 1.0f)
   camera.camera_to_world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0.0f, 1.0f, 0.0f)));
   camera.yfov = yfov;
   return camera;
-}
-
-/// Faces of box_mesh, in the order it adds them.
-enum BoxFace { box_floor, box_ceiling, box_x_lower, box_x_upper, box_z_lower, box_z_upper, box_no_face };
-
-/// The faces of the axis-aligned box [lower, upper] but `missing`, normals pointing inwards.
-Mesh box_mesh(const std::string& name, const glm::vec3& lower, const glm::vec3& upper, BoxFace missing = box_no_face) {
-  Mesh mesh;
-  mesh.name = name;
-  const glm::vec3 l = lower, u = upper;
-  const auto face = [&](BoxFace which, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, glm::vec3 n) {
-    if (which != missing) add_quad(mesh, a, b, c, d, n);
-  };
-  face(box_floor, {l.x, l.y, l.z}, {u.x, l.y, l.z}, {u.x, l.y, u.z}, {l.x, l.y, u.z}, {0, 1, 0});
-  face(box_ceiling, {l.x, u.y, l.z}, {u.x, u.y, l.z}, {u.x, u.y, u.z}, {l.x, u.y, u.z}, {0, -1, 0});
-  face(box_x_lower, {l.x, l.y, l.z}, {l.x, u.y, l.z}, {l.x, u.y, u.z}, {l.x, l.y, u.z}, {1, 0, 0});
-  face(box_x_upper, {u.x, l.y, l.z}, {u.x, u.y, l.z}, {u.x, u.y, u.z}, {u.x, l.y, u.z}, {-1, 0, 0});
-  face(box_z_lower, {l.x, l.y, l.z}, {u.x, l.y, l.z}, {u.x, u.y, l.z}, {l.x, u.y, l.z}, {0, 0, 1});
-  face(box_z_upper, {l.x, l.y, u.z}, {u.x, l.y, u.z}, {u.x, u.y, u.z}, {l.x, u.y, u.z}, {0, 0, -1});
-  return mesh;
 }
 
 /// Largest value a pixel of an IGI frame (anti-aliasing 1, no mirrors or glass in the scene) can

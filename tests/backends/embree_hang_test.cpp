@@ -187,7 +187,7 @@ TEST_CASE("embree: coherent packets of every width return on the Cornell box, wh
   CHECK((exit->exited && exit->code == 0));
 }
 
-TEST_CASE("embree: coherent packets of every width return on Sponza_lit, whatever the stack holds", "[backends]") {
+TEST_CASE("embree: coherent packets of every width return on Sponza_lit, whatever the stack holds (shared scene Sponza_lit.gltf)", "[backends]") {
   IGI_REQUIRE_SCENE(igi::testing::scene_path("sponza/Sponza_lit.gltf"));
   const std::optional<igi::testing::ChildExit> exit =
       run_child("child: embree coherent packets of every width after a stack full of ones",
@@ -202,12 +202,10 @@ TEST_CASE("embree: coherent packets of every width return on Sponza_lit, whateve
 TEST_CASE("embree: a stack full of ones makes the unguarded coherent 16-wide occlusion loop, as the guard assumes",
           "[backends]") {
   if (!igi::detail::embree_coherent_occlusion16_may_loop) {
-    WARN("skipped: this Embree's coherent 16-wide occlusion is not known to loop");
-    return;
+    IGI_SKIP("this Embree's coherent 16-wide occlusion is not known to loop");
   }
   if (!embree_uses_avx512()) {
-    WARN("skipped: no AVX-512 here, so Embree runs no AVX-512 kernel (its 16-wide packets take another path)");
-    return;
+    IGI_SKIP("no AVX-512 here, so Embree runs no AVX-512 kernel (its 16-wide packets take another path)");
   }
   // The loop never ends; 10 s is 10x what the child needs to build and trace the Cornell box.
   constexpr int seconds = 10;

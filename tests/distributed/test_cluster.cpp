@@ -39,13 +39,10 @@ std::string mpirun(int ranks) {
   return command + " -np " + std::to_string(ranks) + " ";
 }
 
-/// Skips the rest of a test (with a warning) when mpirun is missing.
-#define IGI_REQUIRE_MPIRUN()                                                           \
-  do {                                                                                 \
-    if (mpiexec().empty()) {                                                           \
-      WARN("skipped: mpirun not found (Open MPI missing); distributed runs not tested"); \
-      return;                                                                          \
-    }                                                                                  \
+/// Skips the rest of a test (reported skipped by CTest) when mpirun is missing.
+#define IGI_REQUIRE_MPIRUN()                                                                       \
+  do {                                                                                             \
+    if (mpiexec().empty()) IGI_SKIP("mpirun not found (Open MPI missing); distributed runs not tested"); \
   } while (false)
 
 /// A fresh scratch folder for one test.

@@ -8,7 +8,7 @@
 
 #include "igi/lighting/lights.hpp"
 #include "igi/simd/sampling.hpp"
-#include "test_scenes.hpp"
+#include "scene_builders.hpp"
 
 using namespace igi;
 

@@ -15,7 +15,7 @@
 #include "igi/shading/gltf_material_shader.hpp"
 #include "igi/shading/procedural_shaders.hpp"
 #include "scenes.hpp"
-#include "test_scenes.hpp"
+#include "scene_builders.hpp"
 
 using namespace igi;
 
@@ -161,7 +161,7 @@ TEST_CASE("QmcVplSampler: directional light - disc particles that hit the floor 
   CHECK(first == Approx(1.5 * 4.0 * rho).epsilon(4.0 * sigma));
 }
 
-TEST_CASE("QmcVplSampler: Cornell box - deterministic, frame- and seed-dependent, on surfaces, finite",
+TEST_CASE("QmcVplSampler: Cornell box - deterministic, frame- and seed-dependent, on surfaces, finite (shared scene cornell_box.gltf)",
           "[lighting][vpl]") {
   const auto path = testing::scene_path("cornell/cornell_box.gltf");
   IGI_REQUIRE_SCENE(path);
@@ -217,7 +217,7 @@ TEST_CASE("QmcVplSampler: Cornell box - deterministic, frame- and seed-dependent
     }
 }
 
-TEST_CASE("QmcVplSampler: every set has the same expected power", "[lighting][vpl]") {
+TEST_CASE("QmcVplSampler: every set has the same expected power (shared scene cornell_box.gltf)", "[lighting][vpl]") {
   const auto path = testing::scene_path("cornell/cornell_box.gltf");
   IGI_REQUIRE_SCENE(path);
   const Scene scene = load_gltf(path);
@@ -321,7 +321,7 @@ TEST_CASE("QmcVplSampler: closed emitting box - the VPL sum is the analytic irra
   CHECK(standard_error < 0.1 * expected);
 }
 
-TEST_CASE("QmcVplSampler: Sponza_lit - sun and lamp VPLs, finite, about M per set", "[lighting][vpl][sponza]") {
+TEST_CASE("QmcVplSampler: Sponza_lit - sun and lamp VPLs, finite, about M per set (shared scene Sponza_lit.gltf)", "[lighting][vpl][sponza]") {
   const auto path = testing::scene_path("sponza/Sponza_lit.gltf");
   IGI_REQUIRE_SCENE(path);
   const Scene scene = load_gltf(path);

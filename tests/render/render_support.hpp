@@ -1,5 +1,6 @@
 #pragma once
-// Shared helpers of the render tests: frames through any backend and BRDF, a closed box.
+// Shared helpers of the render tests: frames through any backend and BRDF, and their statistics
+// (the scenes they render are built by scene_builders.hpp).
 
 #include <cmath>
 
@@ -12,6 +13,7 @@
 #include "igi/scene/cornell.hpp"
 #include "igi/shading/brdf_shaders.hpp"
 #include "igi/shading/gltf_material_shader.hpp"
+#include "scene_builders.hpp"
 
 namespace igi::testing {
 
@@ -48,51 +50,6 @@ inline bool all_finite(const Frame& frame) {
   for (const glm::vec3& p : frame.hdr.pixels)
     if (!std::isfinite(p.r) || !std::isfinite(p.g) || !std::isfinite(p.b)) return false;
   return true;
-}
-
-/// A closed unit cube seen from inside: every face emits `emission` and reflects `albedo`
-/// diffusely, so radiance is emission / (1 - albedo) everywhere.
-inline Scene closed_box(float albedo, float emission) {
-  Scene scene;
-  scene.name = "closed box";
-  Material material;
-  material.name = "uniform";
-  material.base_color = glm::vec4(albedo, albedo, albedo, 1.0f);
-  material.metallic = 0.0f;
-  material.roughness = 1.0f;
-  material.emission = glm::vec3(emission);
-  scene.materials.push_back(material);
-  Mesh mesh;
-  mesh.name = "box";
-  mesh.material = 0;
-  // Each face: inward normal n, two tangent axes; corners at +-1/2 around the centre.
-  const glm::vec3 normals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  for (const glm::vec3& n : normals) {
-    const glm::vec3 a = std::abs(n.x) > 0.5f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
-    const glm::vec3 b = glm::cross(n, a);
-    const glm::vec3 centre = -0.5f * n;  // the face opposite its inward normal
-    const auto base = std::uint32_t(mesh.positions.size());
-    for (const glm::vec2& c : {glm::vec2(-0.5f, -0.5f), glm::vec2(0.5f, -0.5f), glm::vec2(0.5f, 0.5f), glm::vec2(-0.5f, 0.5f)}) {
-      mesh.positions.push_back(centre + c.x * a + c.y * b);
-      mesh.normals.push_back(n);
-    }
-    // Counter-clockwise seen from inside (from the side n points to).
-    mesh.triangles.push_back({base, base + 1, base + 2});
-    mesh.triangles.push_back({base, base + 2, base + 3});
-    const glm::vec3 e1 = mesh.positions[base + 1] - mesh.positions[base];
-    const glm::vec3 e2 = mesh.positions[base + 2] - mesh.positions[base];
-    if (glm::dot(glm::cross(e1, e2), n) < 0.0f) {
-      mesh.triangles[mesh.triangles.size() - 2] = {base, base + 2, base + 1};
-      mesh.triangles[mesh.triangles.size() - 1] = {base, base + 3, base + 2};
-    }
-  }
-  scene.meshes.push_back(mesh);
-  scene.instances.push_back({.name = "box", .mesh = 0});
-  Camera camera;
-  camera.name = "inside";
-  camera.yfov = 1.2f;  // wide: sees walls, edges and corners
-  scene.cameras.push_back(camera);  // at the centre, looking down -z
-  return scene;
 }
 
 }  // namespace igi::testing

@@ -53,7 +53,7 @@ TEST_CASE("Built-in Cornell box: 36 triangles, walls, boxes, one emissive light,
   CHECK(scene.triangle_count() == 36);
 }
 
-TEST_CASE("Built-in Cornell box agrees with cornell_box.gltf", "[scene][cornell][shared]") {
+TEST_CASE("Built-in Cornell box agrees with cornell_box.gltf (shared scene cornell_box.gltf)", "[scene][cornell][shared]") {
   const auto file = igi::testing::scene_path("cornell/cornell_box.gltf");
   IGI_REQUIRE_SCENE(file);
   const igi::Scene loaded = igi::load_gltf(file);

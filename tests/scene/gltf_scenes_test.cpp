@@ -1,5 +1,5 @@
 // The shared real scenes (../shared/scenes) load with the counts, lights, cameras and materials
-// their README declares. Every test skips with a message when the folder is missing.
+// their README declares. A test whose scene is missing is reported skipped (scenes.hpp).
 
 #include <algorithm>
 #include <cmath>
@@ -30,7 +30,7 @@ bool unit_normals(const igi::Scene& scene) {
 
 }  // namespace
 
-TEST_CASE("Cornell box glTF: 36 triangles, 4 materials, emissive light, one camera", "[scene][gltf][shared]") {
+TEST_CASE("Cornell box glTF: 36 triangles, 4 materials, emissive light, one camera (shared scene cornell_box.gltf)", "[scene][gltf][shared]") {
   const auto file = scene_path("cornell/cornell_box.gltf");
   IGI_REQUIRE_SCENE(file);
   std::vector<std::string> warnings;
@@ -59,7 +59,7 @@ TEST_CASE("Cornell box glTF: 36 triangles, 4 materials, emissive light, one came
   CHECK(unit_normals(scene));
 }
 
-TEST_CASE("Sponza: 262,087 triangles (115,580 unique), textures shared and sRGB, 4 named cameras", "[scene][gltf][shared]") {
+TEST_CASE("Sponza: 262,087 triangles (115,580 unique), textures shared and sRGB, 4 named cameras (shared scene Sponza.gltf)", "[scene][gltf][shared]") {
   const auto file = scene_path("sponza/Sponza.gltf");
   IGI_REQUIRE_SCENE(file);
   std::vector<std::string> warnings;
@@ -102,7 +102,7 @@ TEST_CASE("Sponza: 262,087 triangles (115,580 unique), textures shared and sRGB,
   CHECK(unit_normals(scene));
 }
 
-TEST_CASE("Sponza_lit: the sun and the atrium lamp placed by their nodes", "[scene][gltf][shared]") {
+TEST_CASE("Sponza_lit: the sun and the atrium lamp placed by their nodes (shared scene Sponza_lit.gltf)", "[scene][gltf][shared]") {
   const auto file = scene_path("sponza/Sponza_lit.gltf");
   IGI_REQUIRE_SCENE(file);
   std::vector<std::string> warnings;
@@ -131,7 +131,7 @@ TEST_CASE("Sponza_lit: the sun and the atrium lamp placed by their nodes", "[sce
   CHECK(scene.cameras.size() == 4);
 }
 
-TEST_CASE("Stanford bunny .glb: 69,451 triangles, computed unit normals, no material, camera or light", "[scene][gltf][shared]") {
+TEST_CASE("Stanford bunny .glb: 69,451 triangles, computed unit normals, no material, camera or light (shared scene stanford-bunny.glb)", "[scene][gltf][shared]") {
   const auto file = scene_path("bunny/stanford-bunny.glb");
   IGI_REQUIRE_SCENE(file);
   std::vector<std::string> warnings;

@@ -1,14 +1,20 @@
 // BRDF shaders: VPL contributions against the formula, energy of the lobes by numerical
-// integration, mirror and glass directions and weights, and no NaN on degenerate input.
+// integration, mirror and glass directions and weights; then every BRDF shader of
+// policy_lists.hpp through the properties all must have: energy at most 1 for every lobe setting
+// (white furnace), packets equal to single lanes at W = 4, 8 and 16, and no NaN or Inf on
+// grazing and degenerate input.
 
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <numbers>
+#include <string>
+#include <type_traits>
 
 #include <catch2/catch.hpp>
 
 #include "igi/shading/brdf_shaders.hpp"
+#include "policy_lists.hpp"
 
 using namespace igi;
 
@@ -193,44 +199,6 @@ TEST_CASE("BRDF: glass follows Snell and Fresnel, conserves energy and reflects 
   }
 }
 
-TEST_CASE("BRDF: degenerate input never yields NaN or Inf", "[shading][brdf]") {
-  SurfaceHit<W> hit = flat_hit({1, 0, 0});  // grazing view
-  BrdfParameters<W> p = parameters(glm::vec3(0.8f), glm::vec3(0.5f), 0.0f);
-  p.mirror = vec3<W>(glm::vec3(0.5f));
-  p.transmission = vfloat<W>(0.5f);
-  // Lane 0 zero normal, lane 1 NaN normal, lane 2 zero ior, lane 3 NaN shininess, lane 4 zero wo.
-  p.normal.set(0, glm::vec3(0.0f));
-  p.normal.set(1, glm::vec3(std::numeric_limits<float>::quiet_NaN()));
-  p.ior.set(2, 0.0f);
-  p.shininess.set(3, std::numeric_limits<float>::quiet_NaN());
-  hit.wo.set(4, glm::vec3(0.0f));
-  const auto finite = [](const vec3<W>& v) { return all(isfinite(v.x) & isfinite(v.y) & isfinite(v.z)); };
-  for (const glm::vec3 vpl_position : {glm::vec3(0, 0, 1), glm::vec3(1, 0, 1e-7f), glm::vec3(0.0f)}) {
-    const Vpl vpl{.position = vpl_position, .normal = {0, 0, -1}, .intensity = glm::vec3(1.0f)};
-    const VplGeometry<W> g = connect(vpl, hit.position, hit.geometric_normal, 0.0f, vmask<W>(true));
-    VplAccumulator<W> acc;
-    StandardBrdf{}.add_vpl(hit, p, g, vpl.intensity, acc, g.reaches);
-    CHECK(finite(acc.irradiance));
-    CHECK(finite(acc.glossy));
-  }
-  SecondaryRays<W> reflection, refraction;
-  StandardBrdf{}.spawn(hit, p, reflection, refraction, vmask<W>(true));
-  CHECK(finite(reflection.direction));
-  CHECK(finite(refraction.direction));
-  CHECK(finite(reflection.weight));
-  CHECK(finite(refraction.weight));
-  CHECK(finite(StandardBrdf{}.evaluate(hit, p, vec3<W>(glm::vec3(0.0f)), vmask<W>(true))));
-  CHECK(finite(StandardBrdf{}.evaluate(hit, p, vec3<W>(glm::vec3(1, 0, 0)), vmask<W>(true))));
-}
-
-TEST_CASE("BRDF: every shader satisfies the BrdfShader concept at every width", "[shading][brdf]") {
-  STATIC_REQUIRE(BrdfShader<LambertBrdf, 1>);
-  STATIC_REQUIRE(BrdfShader<PhongBrdf, 4>);
-  STATIC_REQUIRE(BrdfShader<MirrorBrdf, 8>);
-  STATIC_REQUIRE(BrdfShader<GlassBrdf, 16>);
-  STATIC_REQUIRE(BrdfShader<StandardBrdf, 64>);
-}
-
 namespace {
 
 // Random-looking but fixed hit geometry for lane i: a receiver with a tilted normal, a view
@@ -256,45 +224,6 @@ void fill_lane(SurfaceHit<N>& hit, BrdfParameters<N>& p, int lane, int i) {
 }
 
 }  // namespace
-
-TEST_CASE("BRDF: a packet of 16 or 64 lanes gives what 16 or 64 single-lane calls give", "[shading][brdf]") {
-  const Vpl vpl{.position = {0.3f, 1.2f, -0.4f}, .normal = glm::normalize(glm::vec3(0.2f, -1, 0.1f)), .intensity = {1, 2, 3}};
-  const auto check_width = [&]<int N>(std::integral_constant<int, N>) {
-    SurfaceHit<N> hit;
-    BrdfParameters<N> p;
-    for (int i = 0; i < N; ++i) fill_lane(hit, p, i, i);
-    vmask<N> mask(true);
-    mask.set(N - 1, false);
-    const VplGeometry<N> g = connect(vpl, hit.position, hit.geometric_normal, 0.1f, mask);
-    VplAccumulator<N> acc;
-    StandardBrdf{}.add_vpl(hit, p, g, vpl.intensity, acc, g.reaches);
-    SecondaryRays<N> reflection, refraction;
-    StandardBrdf{}.spawn(hit, p, reflection, refraction, mask);
-    for (int i = 0; i < N; ++i) {
-      SurfaceHit<1> hit1;
-      BrdfParameters<1> p1;
-      fill_lane(hit1, p1, 0, i);
-      const vmask<1> mask1(i != N - 1);
-      const VplGeometry<1> g1 = connect(vpl, hit1.position, hit1.geometric_normal, 0.1f, mask1);
-      VplAccumulator<1> acc1;
-      StandardBrdf{}.add_vpl(hit1, p1, g1, vpl.intensity, acc1, g1.reaches);
-      SecondaryRays<1> reflection1, refraction1;
-      StandardBrdf{}.spawn(hit1, p1, reflection1, refraction1, mask1);
-      INFO("width " << N << " lane " << i);
-      // Packet and scalar code run the same operations; only fused multiply-adds the compiler
-      // may contract differently separate them: 1e-6 relative.
-      CHECK(glm::length(acc.irradiance[i] - acc1.irradiance[0]) <= 1e-6f * (1.0f + glm::length(acc1.irradiance[0])));
-      CHECK(glm::length(acc.glossy[i] - acc1.glossy[0]) <= 1e-6f * (1.0f + glm::length(acc1.glossy[0])));
-      CHECK(reflection.active[i] == reflection1.active[0]);
-      CHECK(refraction.active[i] == refraction1.active[0]);
-      CHECK(glm::length(reflection.direction[i] - reflection1.direction[0]) < 1e-6f);
-      CHECK(glm::length(refraction.direction[i] - refraction1.direction[0]) < 1e-6f);
-      CHECK(glm::length(refraction.weight[i] - refraction1.weight[0]) < 1e-6f);
-    }
-  };
-  check_width(std::integral_constant<int, 16>{});
-  check_width(std::integral_constant<int, 64>{});
-}
 
 TEST_CASE("BRDF: the packet pow matches std::pow on 0..1 for exponents up to 1e4", "[shading][brdf]") {
   double worst = 0.0;
@@ -325,4 +254,216 @@ TEST_CASE("BRDF: the packet pow matches std::pow on 0..1 for exponents up to 1e4
   std::printf("pow_unit: worst relative error %.2e\n", worst);
   CHECK(brdf_detail::pow_unit(vfloat<1>(0.0f), vfloat<1>(0.0f))[0] == 1.0f);
   CHECK(brdf_detail::pow_unit(vfloat<1>(0.0f), vfloat<1>(3.0f))[0] == 0.0f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Properties of every BRDF shader.
+
+TEMPLATE_TEST_CASE("BRDF: every shader satisfies the BrdfShader concept at every width", "[shading][brdf]",
+                   IGI_ALL_BRDF_SHADERS) {
+  STATIC_REQUIRE(BrdfShader<TestType, 1>);
+  STATIC_REQUIRE(BrdfShader<TestType, 4>);
+  STATIC_REQUIRE(BrdfShader<TestType, 8>);
+  STATIC_REQUIRE(BrdfShader<TestType, 16>);
+  STATIC_REQUIRE(BrdfShader<TestType, 64>);
+}
+
+namespace {
+
+/// One physically possible material: reflectances that sum to at most 1.
+struct LobeSetting {
+  const char* name;       // For messages.
+  glm::vec3 albedo;       // Diffuse.
+  glm::vec3 glossy;       // Phong lobe.
+  float shininess;        // Phong exponent.
+  glm::vec3 mirror;       // Perfect mirror.
+  float transmission;     // Glass.
+};
+
+/// The lobe settings of the white-furnace test: each lobe alone at full white, and mixtures.
+const LobeSetting lobe_settings[] = {
+    {"white diffuse", glm::vec3(1.0f), glm::vec3(0.0f), 1.0f, glm::vec3(0.0f), 0.0f},
+    {"white glossy s=0", glm::vec3(0.0f), glm::vec3(1.0f), 0.0f, glm::vec3(0.0f), 0.0f},
+    {"white glossy s=1", glm::vec3(0.0f), glm::vec3(1.0f), 1.0f, glm::vec3(0.0f), 0.0f},
+    {"white glossy s=10", glm::vec3(0.0f), glm::vec3(1.0f), 10.0f, glm::vec3(0.0f), 0.0f},
+    {"white glossy s=50", glm::vec3(0.0f), glm::vec3(1.0f), 50.0f, glm::vec3(0.0f), 0.0f},
+    {"half diffuse, half glossy s=10", glm::vec3(0.5f), glm::vec3(0.5f), 10.0f, glm::vec3(0.0f), 0.0f},
+    {"white mirror", glm::vec3(0.0f), glm::vec3(0.0f), 1.0f, glm::vec3(1.0f), 0.0f},
+    {"clear glass", glm::vec3(0.0f), glm::vec3(0.0f), 1.0f, glm::vec3(0.0f), 1.0f},
+    {"half mirror, half glass", glm::vec3(0.0f), glm::vec3(0.0f), 1.0f, glm::vec3(0.5f), 0.5f},
+    {"diffuse, glossy, mirror and glass", glm::vec3(0.25f), glm::vec3(0.25f), 20.0f, glm::vec3(0.25f), 0.25f},
+};
+
+/// Grid cells per side of hemisphere_integral in the furnace test: 512^2 = 262,144 directions.
+/// On this grid the exactly known integrals (Lambert and Phong at normal incidence, both 1)
+/// come out within 2e-3 (the energy test above), so an excess of 2e-3 is quadrature error and
+/// anything beyond it a BRDF that creates energy: a lobe scaled by 1.01 already fails.
+constexpr int furnace_grid = 512;
+/// Allowed excess of the furnace energy over 1: the quadrature error of furnace_grid (see there).
+constexpr double furnace_tolerance = 2e-3;
+
+}  // namespace
+
+TEMPLATE_TEST_CASE("BRDF: white furnace - no lobe setting reflects more energy than arrives", "[shading][brdf]",
+                   IGI_ALL_BRDF_SHADERS) {
+  // Energy reflected for light arriving from wo = the hemisphere integral of f_r x cos (what
+  // evaluate returns, by reciprocity the same integral over wi) plus the weights of the
+  // spawned mirror and glass rays, which carry the delta lobes.
+  double most = 0.0;
+  for (const LobeSetting& lobe : lobe_settings) {
+    BrdfParameters<W> p = parameters(lobe.albedo, lobe.glossy, lobe.shininess);
+    p.mirror = vec3<W>(lobe.mirror);
+    p.transmission = vfloat<W>(lobe.transmission);
+    for (const float view_angle : {0.0f, 0.7853982f, 1.3962634f, 1.5690509f}) {  // 0, 45, 80 and 89.9 degrees
+      for (const bool front : {true, false}) {
+        INFO(TestType::name() << ": " << lobe.name << ", view " << view_angle << " rad from the normal, "
+                              << (front ? "front" : "back") << " face");
+        const SurfaceHit<W> hit = flat_hit({std::sin(view_angle), 0.0f, std::cos(view_angle)}, front);
+        const TestType brdf{};
+        const glm::vec3 lobes = hemisphere_integral(brdf, hit, p, furnace_grid);
+        SecondaryRays<W> reflection, refraction;
+        brdf.spawn(hit, p, reflection, refraction, vmask<W>(true));
+        const glm::vec3 delta = reflection.weight[0] + refraction.weight[0];
+        const glm::vec3 energy = lobes + delta;
+        const double largest = std::max(energy.x, std::max(energy.y, energy.z));
+        INFO("energy " << largest << " (lobes " << lobes.x << ", mirror and glass rays " << delta.x << ")");
+        CHECK(std::isfinite(largest));
+        CHECK(largest <= 1.0 + furnace_tolerance);
+        most = std::max(most, largest);
+      }
+    }
+  }
+  // Every shader reflects something under some setting, so the check above is not met by a
+  // shader that returns nothing: its white lobe at normal incidence reflects all (1 - 2e-3).
+  INFO(TestType::name() << ": most energy over all settings " << most);
+  CHECK(most >= 1.0 - furnace_tolerance);
+}
+
+namespace {
+
+/// Width of a packet test, as a type (for a templated lambda).
+template <int N>
+using Width = std::integral_constant<int, N>;
+
+/// Lane i of a packet of test directions wi: spread over the upper and a little of the lower hemisphere.
+glm::vec3 test_wi(int i) {
+  const float a = 0.53f * float(i) + 0.2f, b = 0.29f * float(i);
+  return glm::normalize(glm::vec3(std::cos(a), 0.9f * std::sin(b) + 0.05f, std::sin(a)));
+}
+
+/// Relative distance of two vectors: |a - b| / (1 + |b|).
+float relative_distance(const glm::vec3& a, const glm::vec3& b) { return glm::length(a - b) / (1.0f + glm::length(b)); }
+
+}  // namespace
+
+TEMPLATE_TEST_CASE("BRDF: a packet of 4, 8, 16 or 64 lanes gives what single-lane calls give", "[shading][brdf]",
+                   IGI_ALL_BRDF_SHADERS) {
+  const TestType brdf{};
+  const Vpl vpl{.position = {0.3f, 1.2f, -0.4f}, .normal = glm::normalize(glm::vec3(0.2f, -1, 0.1f)), .intensity = {1, 2, 3}};
+  const auto check_width = [&]<int N>(Width<N>) {
+    SurfaceHit<N> hit;
+    BrdfParameters<N> p;
+    vec3<N> wi;
+    for (int i = 0; i < N; ++i) {
+      fill_lane(hit, p, i, i);
+      wi.set(i, test_wi(i));
+    }
+    vmask<N> mask(true);
+    mask.set(N - 1, false);
+    const VplGeometry<N> g = connect(vpl, hit.position, hit.geometric_normal, 0.1f, mask);
+    VplAccumulator<N> accumulator;
+    brdf.add_vpl(hit, p, g, vpl.intensity, accumulator, g.reaches);
+    SecondaryRays<N> reflection, refraction;
+    const vmask<N> spawned = brdf.spawn(hit, p, reflection, refraction, mask);
+    const vec3<N> evaluated = brdf.evaluate(hit, p, wi, mask);
+    for (int i = 0; i < N; ++i) {
+      SurfaceHit<1> hit1;
+      BrdfParameters<1> p1;
+      fill_lane(hit1, p1, 0, i);
+      const vmask<1> mask1(i != N - 1);
+      const VplGeometry<1> g1 = connect(vpl, hit1.position, hit1.geometric_normal, 0.1f, mask1);
+      VplAccumulator<1> accumulator1;
+      brdf.add_vpl(hit1, p1, g1, vpl.intensity, accumulator1, g1.reaches);
+      SecondaryRays<1> reflection1, refraction1;
+      const vmask<1> spawned1 = brdf.spawn(hit1, p1, reflection1, refraction1, mask1);
+      const vec3<1> evaluated1 = brdf.evaluate(hit1, p1, vec3<1>(test_wi(i)), mask1);
+      INFO(TestType::name() << ", width " << N << ", lane " << i);
+      // Packet and scalar code run the same operations; only fused multiply-adds the compiler
+      // may contract differently separate them: 1e-6 relative.
+      constexpr float tolerance = 1e-6f;
+      CHECK(relative_distance(accumulator.irradiance[i], accumulator1.irradiance[0]) <= tolerance);
+      CHECK(relative_distance(accumulator.glossy[i], accumulator1.glossy[0]) <= tolerance);
+      CHECK(spawned[i] == spawned1[0]);
+      CHECK(reflection.active[i] == reflection1.active[0]);
+      CHECK(refraction.active[i] == refraction1.active[0]);
+      CHECK(relative_distance(reflection.direction[i], reflection1.direction[0]) <= tolerance);
+      CHECK(relative_distance(reflection.origin[i], reflection1.origin[0]) <= tolerance);
+      CHECK(relative_distance(reflection.weight[i], reflection1.weight[0]) <= tolerance);
+      CHECK(relative_distance(refraction.direction[i], refraction1.direction[0]) <= tolerance);
+      CHECK(relative_distance(refraction.origin[i], refraction1.origin[0]) <= tolerance);
+      CHECK(relative_distance(refraction.weight[i], refraction1.weight[0]) <= tolerance);
+      CHECK(relative_distance(evaluated[i], evaluated1[0]) <= tolerance);
+    }
+    // The lanes are not all alike, so the comparison above sees lane mix-ups: some lane differs
+    // from lane 0 in what the shader computed (the masked-off last lane aside).
+    bool lanes_differ = false;
+    for (int i = 1; i < N - 1; ++i)
+      lanes_differ = lanes_differ || accumulator.irradiance[i] != accumulator.irradiance[0] ||
+                     reflection.weight[i] != reflection.weight[0] || refraction.weight[i] != refraction.weight[0] ||
+                     evaluated[i] != evaluated[0];
+    CHECK(lanes_differ);
+  };
+  check_width(Width<4>{});
+  check_width(Width<8>{});
+  check_width(Width<16>{});
+  check_width(Width<64>{});  // the SaarCOR backend's width
+}
+
+TEMPLATE_TEST_CASE("BRDF: grazing and degenerate input never yields NaN or Inf", "[shading][brdf]",
+                   IGI_ALL_BRDF_SHADERS) {
+  constexpr float nan = std::numeric_limits<float>::quiet_NaN();
+  constexpr float infinity = std::numeric_limits<float>::infinity();
+  const TestType brdf{};
+  const auto finite = [](const vec3<W>& v) { return all(isfinite(v.x) & isfinite(v.y) & isfinite(v.z)); };
+  // Views: exactly grazing, almost grazing, and from just below the surface; front and back faces.
+  for (const glm::vec3& view : {glm::vec3(1, 0, 0), glm::vec3(1, 0, 1e-7f), glm::vec3(1, 0.2f, -1e-3f)}) {
+    for (const bool front : {true, false}) {
+      SurfaceHit<W> hit = flat_hit(view, front);
+      BrdfParameters<W> p = parameters(glm::vec3(0.8f), glm::vec3(0.5f), 0.0f);
+      p.mirror = vec3<W>(glm::vec3(0.5f));
+      p.transmission = vfloat<W>(0.5f);
+      // One broken input per lane: zero normal, NaN normal, zero ior, NaN shininess, zero wo,
+      // infinite shininess and ior, shading normal facing into the surface, NaN transmission.
+      p.normal.set(0, glm::vec3(0.0f));
+      p.normal.set(1, glm::vec3(nan));
+      p.ior.set(2, 0.0f);
+      p.shininess.set(3, nan);
+      hit.wo.set(4, glm::vec3(0.0f));
+      p.shininess.set(5, infinity);
+      p.ior.set(5, infinity);
+      p.normal.set(6, glm::vec3(0, 0, -1));
+      p.transmission.set(7, nan);
+      INFO(TestType::name() << ": view " << view.x << ", " << view.y << ", " << view.z << (front ? ", front" : ", back"));
+      // VPLs straight above, grazing, and at the hit point itself (distance 0).
+      for (const glm::vec3 vpl_position : {glm::vec3(0, 0, 1), glm::vec3(1, 0, 1e-7f), glm::vec3(0.0f)}) {
+        const Vpl vpl{.position = vpl_position, .normal = {0, 0, -1}, .intensity = glm::vec3(1.0f)};
+        const VplGeometry<W> g = connect(vpl, hit.position, hit.geometric_normal, 0.0f, vmask<W>(true));
+        VplAccumulator<W> accumulator;
+        brdf.add_vpl(hit, p, g, vpl.intensity, accumulator, g.reaches);
+        CHECK(finite(accumulator.irradiance));
+        CHECK(finite(accumulator.glossy));
+      }
+      SecondaryRays<W> reflection, refraction;
+      brdf.spawn(hit, p, reflection, refraction, vmask<W>(true));
+      CHECK(finite(reflection.direction));
+      CHECK(finite(reflection.origin));
+      CHECK(finite(reflection.weight));
+      CHECK(finite(refraction.direction));
+      CHECK(finite(refraction.origin));
+      CHECK(finite(refraction.weight));
+      // Incident directions: zero, in the surface plane, and from below.
+      for (const glm::vec3& wi : {glm::vec3(0.0f), glm::vec3(1, 0, 0), glm::vec3(0, 0.3f, -1)})
+        CHECK(finite(brdf.evaluate(hit, p, vec3<W>(wi), vmask<W>(true))));
+    }
+  }
 }

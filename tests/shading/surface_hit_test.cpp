@@ -5,7 +5,7 @@
 #include <catch2/catch.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "../lighting/test_scenes.hpp"
+#include "scene_builders.hpp"
 #include "igi/backends/reference/reference_backend.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 
