@@ -7,6 +7,7 @@
 
 #include "scene_builders.hpp"
 #include "igi/backends/reference/reference_backend.hpp"
+#include "igi/shading/constants.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 
 using namespace igi;
@@ -127,4 +128,68 @@ TEST_CASE("make_surface_hit: a degenerate triangle gives finite normals facing t
   const SurfaceHit<1> s = make_surface_hit(scene, ray, hit, vmask<1>(true));
   CHECK(glm::length(s.geometric_normal[0] - glm::vec3(0, 0, 1)) < 1e-6f);
   CHECK(glm::length(s.shading_normal[0] - glm::vec3(0, 0, 1)) < 1e-6f);
+}
+
+TEST_CASE("ray offsets: one rule scales with the scene and puts rays on the side they leave to", "[shading][ray-offset]") {
+  const Bounds unit{glm::vec3(0.0f), glm::vec3(1.0f)};
+  const Bounds large{glm::vec3(0.0f), glm::vec3(1000.0f)};
+  // The offset is linear in the scene's size (diagonal plus distance from the origin).
+  CHECK(ray_offset(large) == Approx(1000.0f * ray_offset(unit)).epsilon(1e-5));
+  CHECK(ray_offset(Bounds{}) > 0.0f);  // an empty scene still gets a usable offset
+
+  const vec3<4> position(glm::vec3(0.5f, 0.5f, 0.0f));
+  const vec3<4> normal(glm::vec3(0.0f, 0.0f, 1.0f));
+  vec3<4> direction;
+  direction.set(0, glm::vec3(0.0f, 0.0f, 1.0f));     // straight out
+  direction.set(1, glm::vec3(0.0f, 0.0f, -1.0f));    // straight in (refraction)
+  direction.set(2, glm::vec3(0.6f, 0.0f, 0.8f));     // oblique out
+  direction.set(3, glm::vec3(0.0f, 0.99f, -0.14f));  // grazing in
+  const vec3<4> start = leave_surface(position, normal, direction, 0.25f);
+  CHECK(start[0].z == 0.25f);
+  CHECK(start[1].z == -0.25f);
+  CHECK(start[2].z == 0.25f);
+  CHECK(start[3].z == -0.25f);
+  CHECK(start[2].x == 0.5f);  // moved along the normal only
+}
+
+TEST_CASE("ray offsets: rays leaving a surface far from the origin never hit it again", "[shading][ray-offset]") {
+  // A wall 10 km from the origin, tilted so its hit points round in every coordinate: float
+  // spacing there is about 1 mm, so a fixed small offset would let rays re-hit their own surface.
+  Scene scene;
+  const glm::vec3 center(10000.0f, 2000.0f, -7000.0f);
+  const glm::vec3 u = glm::normalize(glm::vec3(1.0f, 0.3f, 0.2f));
+  const glm::vec3 normal = glm::normalize(glm::cross(u, glm::vec3(0.1f, 1.0f, 0.4f)));
+  const glm::vec3 v = glm::cross(normal, u);
+  testing::add_quad(scene, center, u, v, normal, 50.0f, testing::add_material(scene, glm::vec3(0.5f)));
+  const ReferenceBackend<8> backend(scene);
+  const float offset = ray_offset(scene.bounds());
+  int rays = 0;
+  for (int i = 0; i < 64; ++i) {
+    // Hit the wall from the front at scattered points, then leave it in scattered directions on
+    // both sides: reflection-like rays (front) and refraction-like rays (back).
+    const float a = float(i % 8) / 8.0f - 0.45f, b = float(i / 8) / 8.0f - 0.45f;
+    const glm::vec3 target = center + 40.0f * (a * u + b * v);
+    RayPacket<8> primary;
+    primary.set(vec3<8>(target + 100.0f * normal + 7.0f * u), vec3<8>(glm::normalize(-100.0f * normal - 7.0f * u)),
+                vfloat<8>(0.0f), vfloat<8>(1e30f), vmask<8>::first(1));
+    HitPacket<8> hit;
+    hit.clear();
+    backend.intersect(primary, hit, vmask<8>::first(1));
+    REQUIRE(hit.geomID[0] != invalid_id);
+    const glm::vec3 point = primary.origin()[0] + primary.tfar[0] * primary.direction()[0];
+    vec3<8> direction;
+    for (int lane = 0; lane < 8; ++lane) {
+      const float side = lane < 4 ? 1.0f : -1.0f;
+      const float tilt = 0.05f + 0.3f * float(lane % 4);  // from nearly grazing to steep
+      direction.set(lane, glm::normalize(side * tilt * normal + u * std::cos(float(i + lane)) + v * std::sin(float(i + lane))));
+    }
+    RayPacket<8> leaving;
+    leaving.set(leave_surface(vec3<8>(point), vec3<8>(normal), direction, offset), direction, vfloat<8>(0.0f),
+                vfloat<8>(1e30f), vmask<8>(true));
+    HitPacket<8> again;
+    again.clear();
+    backend.intersect(leaving, again, vmask<8>(true));
+    for (int lane = 0; lane < 8; ++lane, ++rays) CHECK(again.geomID[lane] == invalid_id);
+  }
+  CHECK(rays == 512);
 }

@@ -91,9 +91,11 @@ class QmcVplSampler {
   template <class Tracer, class Shader, class Brdf>
     requires SurfaceShader<Shader, 1> && BrdfShader<Brdf, 1>
   VplGeneration generate_with_origins(const Scene& scene, const Tracer& tracer, const Shader& shader, const Brdf& brdf,
-                                      const VplSettings& settings) const {
-    check(settings);
-    LightSet lights(scene, settings.scene_bounds.empty() ? scene.bounds() : settings.scene_bounds);
+                                      const VplSettings& frame_settings) const {
+    check(frame_settings);
+    VplSettings settings = frame_settings;  // with the scene's bounds, which lights at infinity and ray offsets need
+    if (settings.scene_bounds.empty()) settings.scene_bounds = scene.bounds();
+    LightSet lights(scene, settings.scene_bounds);
     for (const Emitter& e : user_emitters_) lights.add(e);
     VplGeneration out;
     out.vpls.sets.resize(std::size_t(settings.sets));
@@ -202,17 +204,17 @@ class QmcVplSampler {
                    const Brdf& brdf, const VplSettings& settings, glm::vec3 origin, glm::vec3 direction,
                    glm::vec3 flux, const Sample& u, int walk_index, std::vector<Vpl>& vpls,
                    std::vector<VplOrigin>& origins) {
-    // Ray start offset for particles leaving a light or surface, relative to the coordinates'
-    // magnitude (the same 1e-4 as BrdfSettings::ray_epsilon).
-    constexpr float relative_epsilon = 1e-4f;
     constexpr int first_bounce_dimension = 5;
+    // The one ray-offset rule (shading/constants.hpp): a particle leaving a light starts that far
+    // along its ray, one leaving a surface that far off it, one passing a cut-out that far beyond.
+    const float offset = ray_offset(settings.scene_bounds);
+    float start = offset;
     const vmask<1> one(true);
     int layers = 0;
     for (int bounce = 0; bounce < settings.max_bounces;) {
       if (!(light_detail::largest_component(flux) > 0.0f) || !std::isfinite(light_detail::largest_component(flux))) return;
-      const float magnitude = std::max({std::abs(origin.x), std::abs(origin.y), std::abs(origin.z), 1.0f});
       RayPacket<1> ray;
-      ray.set(vec3<1>(origin), vec3<1>(direction), vfloat<1>(relative_epsilon * magnitude),
+      ray.set(vec3<1>(origin), vec3<1>(direction), vfloat<1>(start),
               vfloat<1>(std::numeric_limits<float>::infinity()), one);
       HitPacket<1> hit;
       hit.clear();
@@ -223,6 +225,7 @@ class QmcVplSampler {
       if (!parameters.opaque[0]) {
         if (++layers > max_cutout_layers) return;
         origin = surface.position[0];
+        start = offset;
         continue;
       }
       layers = 0;
@@ -260,18 +263,17 @@ class QmcVplSampler {
         // A bumped normal can send the sample under the surface; mirror it back above.
         const float below = glm::dot(direction, geometric);
         if (below <= 0.0f) direction = glm::normalize(direction - 2.0f * below * geometric);
-        origin = position;
       } else if (choice < q_diffuse + q_reflect) {
         flux *= reflection.weight[0] / q_reflect;
         direction = reflection.direction[0];
-        origin = reflection.origin[0];
       } else if (choice < q_diffuse + q_reflect + q_refract) {
         flux *= refraction.weight[0] / q_refract;
         direction = refraction.direction[0];
-        origin = refraction.origin[0];
       } else {
         return;
       }
+      origin = leave_surface(vec3<1>(position), vec3<1>(geometric), vec3<1>(direction), offset)[0];
+      start = 0.0f;
     }
   }
 

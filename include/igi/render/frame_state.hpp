@@ -16,6 +16,7 @@
 #include "igi/render/tone_mapping.hpp"
 #include "igi/scene/camera.hpp"
 #include "igi/scene/scene_bounds.hpp"
+#include "igi/shading/constants.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 
 namespace igi {
@@ -41,7 +42,7 @@ struct FrameState {
   VplSets vpls;                                ///< This frame's VPL sets (S^2 of them).
   RenderSettings settings;                     ///< Resolution, S, M, N, ...
   float clamp_distance = 0.0f;                 ///< Resolved minimum VPL distance.
-  float ray_epsilon = 1e-4f;                   ///< Offset of secondary and shadow ray origins off surfaces.
+  float ray_epsilon = 1e-4f;                   ///< ray_offset of the scene: how far rays start off surfaces.
   ToneMapping tone_mapping;                    ///< Parameters from the previous frame.
   bool profile = false;                        ///< Time each stage into TileResult::stages (2-9% slower frames).
 
@@ -64,10 +65,7 @@ struct FrameState {
     settings = frame_settings;
     const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
     clamp_distance = resolve_clamp(frame_settings, diagonal);
-    // Ray offsets scale with the scene: 1e-5 of its diagonal plus of its distance from the origin
-    // stays above float rounding of positions (about 6e-8 relative) yet far below any feature size.
-    const float reach = bounds.empty() ? 1.0f : std::max(glm::length(bounds.lower), glm::length(bounds.upper));
-    ray_epsilon = 1e-5f * (diagonal + reach);
+    ray_epsilon = ray_offset(bounds);
     tone_mapping = frame_tone_mapping;
     profile = false;
   }

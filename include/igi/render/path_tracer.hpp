@@ -102,12 +102,7 @@ class PathTracer {
         arena_(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic) {
     if (scene.instances.empty() || scene.triangle_count() == 0)
       throw std::invalid_argument("PathTracer: scene '" + scene.name + "' has no geometry");
-    const Bounds bounds = scene.bounds();
-    const float diagonal = glm::length(bounds.extent());
-    // The IGI renderer's offset: 1e-5 of the diagonal plus of the distance from the origin stays
-    // above float rounding of positions (about 6e-8 relative) yet far below any feature size.
-    const float reach = std::max(glm::length(bounds.lower), glm::length(bounds.upper));
-    ray_epsilon_ = 1e-5f * (diagonal + reach);
+    ray_epsilon_ = ray_offset(scene.bounds());
     if (!std::isfinite(ray_epsilon_) || !(ray_epsilon_ > 0.0f))
       throw std::invalid_argument("PathTracer: scene '" + scene.name + "' has non-finite or empty bounds");
     for (const Material& material : scene.materials) has_cutouts_ |= material.alpha_mode == AlphaMode::mask;
@@ -329,7 +324,7 @@ class PathTracer {
         const SecondaryRays<1>& chosen = u_lobe < smooth + reflect ? reflection : refraction;
         const float probability = (u_lobe < smooth + reflect ? reflect : refract) / total;
         throughput *= chosen.weight[0] / probability;
-        ray.set(chosen.origin, chosen.direction, vfloat<1>(0.0f), vfloat<1>(std::numeric_limits<float>::infinity()), one);
+        ray.set(leave_surface(hit.position, hit.geometric_normal, chosen.direction, ray_epsilon_), chosen.direction, vfloat<1>(0.0f), vfloat<1>(std::numeric_limits<float>::infinity()), one);
         delta_bounce = true;
         previous_pdf = 0.0f;
       }

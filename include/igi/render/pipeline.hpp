@@ -315,7 +315,7 @@ class Pipeline {
   }
 
   /// Step 5: the BRDF shader's reflection and refraction rays of level `depth` become level depth+1.
-  void spawn_level(const FrameState&, Workspace& work, int depth) const {
+  void spawn_level(const FrameState& frame, Workspace& work, int depth) const {
     auto& next = work.levels[std::size_t(depth) + 1];
     next.clear();
     for (StreamPacket& packet : work.levels[std::size_t(depth)]) {
@@ -328,7 +328,8 @@ class Pipeline {
         child.pixels = packet.pixels;
         child.active = rays->active;
         child.throughput = keep(packet.throughput * rays->weight, rays->active);
-        child.rays.set(rays->origin, rays->direction, vfloat<W>(0.0f),
+        child.rays.set(leave_surface(packet.surface.position, packet.surface.geometric_normal, rays->direction, frame.ray_epsilon),
+                       rays->direction, vfloat<W>(0.0f),
                        vfloat<W>(std::numeric_limits<float>::infinity()), rays->active);
       }
     }

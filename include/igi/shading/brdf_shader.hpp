@@ -19,10 +19,10 @@ struct VplAccumulator {
   vec3<W> glossy;      ///< Radiance towards wo through the glossy lobe.
 };
 
-/// W secondary rays with the throughput they carry back to the pixel.
+/// W secondary rays with the throughput they carry back to the pixel. They start at the hit point;
+/// the tracer moves them off the surface by its ray offset (leave_surface in shading/constants.hpp).
 template <int W>
 struct SecondaryRays {
-  vec3<W> origin;     ///< Ray origins, already offset off the surface.
   vec3<W> direction;  ///< Unit directions.
   vec3<W> weight;     ///< Factor of the traced radiance in the parent's radiance.
   vmask<W> active;    ///< Lanes that carry a ray.

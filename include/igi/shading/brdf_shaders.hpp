@@ -31,14 +31,6 @@
 
 namespace igi {
 
-/// Tunables shared by the BRDF shaders.
-struct BrdfSettings {
-  /// Offset of secondary-ray origins off the surface, relative to the hit's largest coordinate
-  /// (at least 1): 1e-4 is about 800 float ulps at any magnitude, far above the rounding of a
-  /// barycentric hit point and far below any feature of the scenes igi renders.
-  float ray_epsilon = 1e-4f;
-};
-
 namespace brdf_detail {
 
 /// The unit normal shading uses: the surface shader's, or the geometric one where that is not
@@ -56,13 +48,6 @@ vec3<W> shading_frame_normal(const SurfaceHit<W>& hit, const BrdfParameters<W>& 
 template <int W>
 vec3<W> reflect(const vec3<W>& wo, const vec3<W>& n) noexcept {
   return n * (vfloat<W>(2.0f) * dot(n, wo)) - wo;
-}
-
-/// Secondary-ray origin: `position` moved by the relative epsilon along `side` (+/- geometric normal).
-template <int W>
-vec3<W> offset_origin(const vec3<W>& position, const vec3<W>& side, float ray_epsilon) noexcept {
-  const vfloat<W> magnitude = max(max(abs(position.x), abs(position.y)), max(abs(position.z), vfloat<W>(1.0f)));
-  return position + side * (magnitude * vfloat<W>(ray_epsilon));
 }
 
 /// Largest of the three components per lane.
@@ -160,7 +145,7 @@ vec3<W> evaluate_diffuse_glossy(const SurfaceHit<W>& hit, const BrdfParameters<W
 /// reflection = mirror + transmission x F, refraction = transmission x (1 - F).
 template <int W>
 vmask<W> spawn_specular(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const vec3<W>& mirror,
-                        const vfloat<W>& transmission, float ray_epsilon, SecondaryRays<W>& reflection,
+                        const vfloat<W>& transmission, SecondaryRays<W>& reflection,
                         SecondaryRays<W>& refraction, const vmask<W>& mask) noexcept {
   reflection = {};
   refraction = {};
@@ -198,20 +183,16 @@ vmask<W> spawn_specular(const SurfaceHit<W>& hit, const BrdfParameters<W>& param
   }
   reflection.weight = keep(mirror + vec3<W>(glm::vec3(1.0f)) * (t * fresnel), lanes);
   reflection.direction = reflected;
-  reflection.origin = offset_origin(hit.position, geometric, ray_epsilon);
   reflection.active = lanes & (max_component(reflection.weight) > zero);
 
   const vfloat<W> transmitted = keep(t * (one - fresnel), glass);
   refraction.weight = vec3<W>(transmitted, transmitted, transmitted);
   refraction.direction = refracted;
-  refraction.origin = offset_origin(hit.position, -geometric, ray_epsilon);
   refraction.active = glass & (transmitted > zero) & (length_squared(refracted) > zero);
 
   reflection.direction = keep(reflection.direction, reflection.active);
-  reflection.origin = keep(reflection.origin, reflection.active);
   reflection.weight = keep(reflection.weight, reflection.active);
   refraction.direction = keep(refraction.direction, refraction.active);
-  refraction.origin = keep(refraction.origin, refraction.active);
   refraction.weight = keep(refraction.weight, refraction.active);
   return reflection.active | refraction.active;
 }
@@ -276,12 +257,9 @@ class PhongBrdf {
   }
 };
 
-/// What the delta BRDFs (mirror, glass) share: no light from VPLs, nothing to evaluate, and the
-/// settings their secondary rays are spawned with.
+/// What the delta BRDFs (mirror, glass) share: no light from VPLs, nothing to evaluate.
 class DeltaBrdf {
  public:
-  /// A delta lobe with `settings`.
-  explicit DeltaBrdf(const BrdfSettings& settings) : settings_(settings) {}
   /// A delta BRDF gathers nothing from point lights.
   template <int W>
   void add_vpl(const SurfaceHit<W>&, const BrdfParameters<W>&, const VplGeometry<W>&, const glm::vec3&,
@@ -291,40 +269,31 @@ class DeltaBrdf {
   vec3<W> evaluate(const SurfaceHit<W>&, const BrdfParameters<W>&, const vec3<W>&, const vmask<W>&) const noexcept {
     return {};
   }
-
- protected:
-  BrdfSettings settings_;  ///< Ray offsets of the spawned rays.
 };
 
 /// A perfect mirror of reflectance `parameters.mirror`: no VPL light, one reflection ray.
 class MirrorBrdf : public DeltaBrdf {
  public:
-  /// Mirror with `settings`.
-  explicit MirrorBrdf(const BrdfSettings& settings = {}) : DeltaBrdf(settings) {}
   /// Policy name.
   static constexpr const char* name() noexcept { return "mirror"; }
   /// Reflection rays of weight `mirror` on the lanes of `mask` with a non-zero mirror colour.
   template <int W>
   vmask<W> spawn(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, SecondaryRays<W>& reflection,
                  SecondaryRays<W>& refraction, const vmask<W>& mask) const noexcept {
-    return brdf_detail::spawn_specular(hit, parameters, parameters.mirror, vfloat<W>(0.0f), settings_.ray_epsilon, reflection,
-                                  refraction, mask);
+    return brdf_detail::spawn_specular(hit, parameters, parameters.mirror, vfloat<W>(0.0f), reflection, refraction, mask);
   }
 };
 
 /// A clear dielectric interface of index `parameters.ior`: Fresnel reflection and refraction.
 class GlassBrdf : public DeltaBrdf {
  public:
-  /// Glass with `settings`.
-  explicit GlassBrdf(const BrdfSettings& settings = {}) : DeltaBrdf(settings) {}
   /// Policy name.
   static constexpr const char* name() noexcept { return "glass"; }
   /// Reflection (weight F) and refraction (weight 1 - F) rays; reflection only under total internal reflection.
   template <int W>
   vmask<W> spawn(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, SecondaryRays<W>& reflection,
                  SecondaryRays<W>& refraction, const vmask<W>& mask) const noexcept {
-    return brdf_detail::spawn_specular(hit, parameters, vec3<W>(), vfloat<W>(1.0f), settings_.ray_epsilon, reflection,
-                                  refraction, mask);
+    return brdf_detail::spawn_specular(hit, parameters, vec3<W>(), vfloat<W>(1.0f), reflection, refraction, mask);
   }
 };
 
@@ -332,8 +301,6 @@ class GlassBrdf : public DeltaBrdf {
 /// by `mirror`, `transmission` and `ior`. The renderer's default BRDF shader.
 class StandardBrdf {
  public:
-  /// Standard BRDF with `settings`.
-  explicit StandardBrdf(const BrdfSettings& settings = {}) : settings_(settings) {}
   /// Policy name.
   static constexpr const char* name() noexcept { return "standard"; }
   /// Diffuse irradiance and glossy radiance of one VPL on the lanes of `mask`.
@@ -346,8 +313,8 @@ class StandardBrdf {
   template <int W>
   vmask<W> spawn(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, SecondaryRays<W>& reflection,
                  SecondaryRays<W>& refraction, const vmask<W>& mask) const noexcept {
-    return brdf_detail::spawn_specular(hit, parameters, parameters.mirror, parameters.transmission, settings_.ray_epsilon,
-                                  reflection, refraction, mask);
+    return brdf_detail::spawn_specular(hit, parameters, parameters.mirror, parameters.transmission, reflection,
+                                       refraction, mask);
   }
   /// (albedo / pi + f_glossy) x cos(theta_i); the mirror and glass parts are deltas and not included.
   template <int W>
@@ -355,9 +322,6 @@ class StandardBrdf {
                    const vmask<W>& mask) const noexcept {
     return brdf_detail::evaluate_diffuse_glossy(hit, parameters, wi, true, mask);
   }
-
- private:
-  BrdfSettings settings_;
 };
 
 }  // namespace igi
