@@ -92,12 +92,16 @@ def efficiency_table(r):
         scene, threads = name.split("/")[1], name.split(":")[-1]
         g = lambda c: get(r, name, c)
         rows.append([scene, threads, g("pipeline_ms"), g("embree_ms"), g("efficiency"), g("efficiency_cpu"),
+                     g("ceiling_ms"), g("efficiency_ceiling"), g("layout_cost"), g("ceiling_build_ms"),
+                     g("ceiling_shadow_leaks"), g("ceiling_shadow_extra_blocks"),
                      g("embree_closest_ms"), g("embree_occlusion_ms"), g("embree_single_ms"), g("setup_ms"),
                      g("lanes_per_closest_packet"), g("lanes_per_occlusion_packet"), g("recorded_rays"),
                      g("cpu_share")])
     if not rows:
         return None
     return table(["scene", "threads", "frame ms", "Embree alone ms", "**efficiency**", "efficiency by CPU time",
+                  "ceiling ms", "**efficiency against the ceiling**", "igi layout / ceiling", "ceiling build ms",
+                  "shadow rays leaking in the ceiling", "shadow rays blocked only in the ceiling",
                   "Embree: primary + secondary ms", "Embree: shadow ms", "Embree: VPL walks ms", "frame set-up ms",
                   "lanes / closest packet", "lanes / shadow packet", "rays", "CPU share"], rows)
 

@@ -4,7 +4,9 @@
 //   efficiency/SCENE/threads:T       the physical limit: a frame's exact rays replayed through plain
 //                                    Embree (rtcIntersect16 / rtcOccluded16 flagged as the backend
 //                                    flags them, no shading) against the full frame; efficiency =
-//                                    Embree / frame
+//                                    Embree / frame, on igi's own Embree scene and on the ceiling:
+//                                    the fastest scene Embree offers for it (one level, not robust,
+//                                    spatial-split build), with that scene's build time
 //   table1/SCENE/MODE/KIND           the paper's Table 1 at 1024x1024, 1 thread: primary packets
 //                                    without shading, with simple shading, single rays with simple
 //                                    shading; MODE static or dynamic (an instance moves every frame)
@@ -21,6 +23,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -31,6 +34,7 @@
 #include "common/backend_choice.hpp"
 #include "frame_bench.hpp"
 #include "igi/backends/recording_backend.hpp"
+#include "igi/backends/world_triangles.hpp"
 #include "igi/render/interleaving.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 
@@ -187,8 +191,83 @@ ReplayTimes replay_once(Replay& replay, RTCScene scene, tbb::task_arena& arena) 
   return t;
 }
 
+/// The fastest Embree scene of `scene`'s triangles as they stand: every instance's triangles in
+/// world space in one triangle geometry of one scene (no instance level), without
+/// RTC_SCENE_FLAG_ROBUST, built with RTC_BUILD_QUALITY_HIGH (spatial splits). What it can trace is
+/// all a static frame needs; its hits report other ids than igi's, which timing does not read.
+class CeilingScene {
+ public:
+  /// Builds it on `device`; build_ms() is the wall time of the build (Embree's commit on its own threads).
+  CeilingScene(RTCDevice device, const Scene& scene) {
+    const std::vector<WorldTriangle> triangles = world_triangles(scene);
+    const auto start = clock_type::now();
+    scene_ = rtcNewScene(device);
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                 3 * sizeof(float), 3 * triangles.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), triangles.size()));
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+      const glm::vec3* corners[3] = {&triangles[t].v0, &triangles[t].v1, &triangles[t].v2};
+      for (std::size_t c = 0; c < 3; ++c) {
+        for (int axis = 0; axis < 3; ++axis) vertices[9 * t + 3 * c + std::size_t(axis)] = (*corners[c])[axis];
+        indices[3 * t + c] = unsigned(3 * t + c);
+      }
+    }
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene_, geometry);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(scene_);
+    build_ms_ = elapsed_ms(start);
+    if (rtcGetDeviceError(device) != RTC_ERROR_NONE) throw std::runtime_error("CeilingScene: Embree failed to build the scene");
+  }
+  CeilingScene(const CeilingScene&) = delete;
+  CeilingScene& operator=(const CeilingScene&) = delete;
+  ~CeilingScene() { rtcReleaseScene(scene_); }
+  /// The scene to trace.
+  RTCScene scene() const noexcept { return scene_; }
+  /// Milliseconds its build took.
+  double build_ms() const noexcept { return build_ms_; }
+
+ private:
+  RTCScene scene_ = nullptr;
+  double build_ms_ = 0.0;
+};
+
+/// Shadow rays of the replay whose answer differs between two scenes, after replaying on `a` and
+/// on `b`: `leaked` are occluded in `a` but not in `b`, `blocked` the other way round.
+struct OcclusionDisagreement {
+  std::uint64_t rays = 0, leaked = 0, blocked = 0;
+};
+
+/// Replays `replay`'s occlusion packets on `a` and on `b` and compares their answers lane by lane
+/// (Embree sets tfar to -inf on an occluded lane).
+OcclusionDisagreement compare_occlusion(Replay& replay, RTCScene a, RTCScene b, tbb::task_arena& arena) {
+  std::vector<float> occluded_in_a;
+  replay.reset();
+  replay_once(replay, a, arena);
+  for (const ReplayPacket& p : replay.occlusion)
+    for (int lane = 0; lane < 16; ++lane) occluded_in_a.push_back(p.rayhit.ray.tfar[lane]);
+  replay.reset();
+  replay_once(replay, b, arena);
+  OcclusionDisagreement out;
+  std::size_t at = 0;
+  for (const ReplayPacket& p : replay.occlusion)
+    for (int lane = 0; lane < 16; ++lane, ++at) {
+      if (!p.valid[lane]) continue;
+      ++out.rays;
+      const bool in_a = occluded_in_a[at] < 0.0f, in_b = p.rayhit.ray.tfar[lane] < 0.0f;
+      out.leaked += in_a && !in_b;
+      out.blocked += !in_a && in_b;
+    }
+  return out;
+}
+
 /// The physical limit: record frame 1 through RecordingBackend, then alternate timing the full frame (plain
-/// Embree backend, same frame index, so the same rays) and replaying the recorded rays.
+/// Embree backend, same frame index, so the same rays), replaying the recorded rays on the
+/// backend's own Embree scene, and replaying them on the ceiling scene.
 void efficiency_benchmark(benchmark::State& state, const std::string& scene_name, int threads) {
   BenchScene* bench = scene_or_skip(state, scene_name);
   if (!bench) return;
@@ -206,11 +285,16 @@ void efficiency_benchmark(benchmark::State& state, const std::string& scene_name
                                             policies.filter);
   renderer.render(bench->camera, 0);  // warm-up
   tbb::task_arena arena(threads);
+  const CeilingScene ceiling(renderer.backend().device(), bench->scene);
   replay.reset();
   replay_once(replay, renderer.backend().embree_scene(), arena);  // warm-up
+  // Warm-up, and what dropping the ROBUST flag changes: shadow rays that leak through the
+  // ceiling scene where igi's robust one is closed, or the other way round.
+  const OcclusionDisagreement leaks = compare_occlusion(replay, renderer.backend().embree_scene(), ceiling.scene(), arena);
   std::vector<double> frame_ms, embree_ms, closest_ms, occlusion_ms, singles_ms, setup_ms, frame_cpu_ms, embree_cpu_ms;
+  std::vector<double> ceiling_ms, ceiling_closest_ms, ceiling_occlusion_ms, ceiling_cpu_ms;
   RayCounts rays;
-  for (int rep = 0; rep < options().frames; ++rep) {  // A B A B: both see the same machine load
+  for (int rep = 0; rep < options().frames; ++rep) {  // A B C A B C: all see the same machine load
     double cpu = process_cpu_ms();
     const Frame frame = renderer.render(bench->camera, frame_index);
     frame_cpu_ms.push_back(process_cpu_ms() - cpu);
@@ -225,6 +309,13 @@ void efficiency_benchmark(benchmark::State& state, const std::string& scene_name
     closest_ms.push_back(t.closest);
     occlusion_ms.push_back(t.occlusion);
     singles_ms.push_back(t.singles);
+    replay.reset();
+    cpu = process_cpu_ms();
+    const ReplayTimes c = replay_once(replay, ceiling.scene(), arena);
+    ceiling_cpu_ms.push_back(process_cpu_ms() - cpu);
+    ceiling_ms.push_back(c.total());
+    ceiling_closest_ms.push_back(c.closest);
+    ceiling_occlusion_ms.push_back(c.occlusion);
   }
   // Lane occupancy of the recorded packets: how full the pipeline's packets are.
   double closest_lanes = 0.0, occlusion_lanes = 0.0;
@@ -239,6 +330,19 @@ void efficiency_benchmark(benchmark::State& state, const std::string& scene_name
   state.counters["embree_cpu_ms"] = embree_cpu;
   state.counters["efficiency_cpu"] = pipeline_cpu > 0.0 ? embree_cpu / pipeline_cpu : 0.0;
   state.counters["cpu_share"] = pipeline > 0.0 ? pipeline_cpu / (pipeline * threads) : 0.0;
+  // Against the ceiling: what igi's scene layout costs Embree, and the frame against the fastest tracing.
+  const double fastest = median(ceiling_ms), fastest_cpu = median(ceiling_cpu_ms);
+  state.counters["ceiling_ms"] = fastest;
+  state.counters["ceiling_cpu_ms"] = fastest_cpu;
+  state.counters["ceiling_closest_ms"] = median(ceiling_closest_ms);
+  state.counters["ceiling_occlusion_ms"] = median(ceiling_occlusion_ms);
+  state.counters["ceiling_build_ms"] = ceiling.build_ms();
+  state.counters["efficiency_ceiling"] = pipeline > 0.0 ? fastest / pipeline : 0.0;
+  state.counters["efficiency_ceiling_cpu"] = pipeline_cpu > 0.0 ? fastest_cpu / pipeline_cpu : 0.0;
+  state.counters["layout_cost"] = fastest > 0.0 ? embree / fastest : 0.0;
+  state.counters["ceiling_shadow_rays"] = double(leaks.rays);
+  state.counters["ceiling_shadow_leaks"] = double(leaks.leaked);
+  state.counters["ceiling_shadow_extra_blocks"] = double(leaks.blocked);
   state.counters["embree_closest_ms"] = median(closest_ms);
   state.counters["embree_occlusion_ms"] = median(occlusion_ms);
   state.counters["embree_single_ms"] = median(singles_ms);

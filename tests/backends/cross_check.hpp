@@ -36,19 +36,23 @@ namespace igi::testing {
 // ---------------------------------------------------------------------------------------------
 // Scenes built in code.
 
-/// A UV sphere of `rings` x `segments` quads: closed, with shared edges and vertices everywhere.
+/// A UV sphere of `rings` x `segments` quads: closed, its triangles sharing every vertex they meet
+/// at (the seam's too: a repeated column of vertices at phi = 2 pi would round to a crack of about
+/// 1e-7 of the radius), so shared edges and vertices are everywhere and no ray may pass between.
 inline Mesh sphere_mesh(int rings, int segments, float radius) {
   Mesh mesh;
   mesh.name = "sphere";
   const float pi = 3.14159265358979f;
   for (int r = 0; r <= rings; ++r)
-    for (int s = 0; s <= segments; ++s) {
+    for (int s = 0; s < segments; ++s) {
       const float theta = pi * float(r) / float(rings), phi = 2.0f * pi * float(s) / float(segments);
-      // Exactly zero at both poles (sinf(pi) is 8.7e-8, which would make pole slivers).
+      // Exactly zero at both poles (sinf(pi) is 8.7e-8, which would make pole slivers), and the
+      // bottom pole exactly at -radius, so every pole vertex is the same point.
       const float ring_radius = (r == 0 || r == rings) ? 0.0f : radius * std::sin(theta);
-      mesh.positions.emplace_back(ring_radius * std::cos(phi), radius * std::cos(theta), ring_radius * std::sin(phi));
+      const float height = r == rings ? -radius : radius * std::cos(theta);
+      mesh.positions.emplace_back(ring_radius * std::cos(phi), height, ring_radius * std::sin(phi));
     }
-  const auto vertex = [&](int r, int s) { return std::uint32_t(r * (segments + 1) + s); };
+  const auto vertex = [&](int r, int s) { return std::uint32_t(r * segments + s % segments); };
   for (int r = 0; r < rings; ++r)
     for (int s = 0; s < segments; ++s) {
       // At the poles one triangle of each quad has two vertices at the pole: it is left out

@@ -227,17 +227,15 @@ inline bool intersect_triangle(const ShearedRay& ray, float tnear, float tfar, c
   const float ax = a[ray.kx] - ray.sx * a[ray.kz], ay = a[ray.ky] - ray.sy * a[ray.kz];
   const float bx = b[ray.kx] - ray.sx * b[ray.kz], by = b[ray.ky] - ray.sy * b[ray.kz];
   const float cx = c[ray.kx] - ray.sx * c[ray.kz], cy = c[ray.ky] - ray.sy * c[ray.kz];
-  // Edge functions: the weight of each vertex is the signed area opposite to it.
-  float w0 = cx * by - cy * bx;
-  float w1 = ax * cy - ay * cx;
-  float w2 = bx * ay - by * ax;
-  // An exact zero may be a rounding casualty on a shared edge: redo it in double so both
-  // neighbours agree on which side the ray passes.
-  if (w0 == 0.0f || w1 == 0.0f || w2 == 0.0f) {
-    w0 = float(double(cx) * double(by) - double(cy) * double(bx));
-    w1 = float(double(ax) * double(cy) - double(ay) * double(cx));
-    w2 = float(double(bx) * double(ay) - double(by) * double(ax));
-  }
+  // Edge functions: the weight of each vertex is the signed area opposite to it. Watertightness
+  // needs the two triangles of a shared edge to compute exactly opposite values for it. In float,
+  // a compiler that contracts p*q - r*s into fma(p, q, -r*s) (GCC does by default in C++) breaks
+  // that symmetry and lets rays through shared edges; in double the products of two floats are
+  // exact (48 of 53 bits), so contracted or not the difference is rounded once and stays exactly
+  // antisymmetric, and its sign (all the test needs) survives the conversion to float.
+  const float w0 = float(double(cx) * double(by) - double(cy) * double(bx));
+  const float w1 = float(double(ax) * double(cy) - double(ay) * double(cx));
+  const float w2 = float(double(bx) * double(ay) - double(by) * double(ax));
   if ((w0 < 0.0f || w1 < 0.0f || w2 < 0.0f) && (w0 > 0.0f || w1 > 0.0f || w2 > 0.0f)) return false;
   const float determinant = w0 + w1 + w2;
   if (determinant == 0.0f) return false;
