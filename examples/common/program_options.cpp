@@ -56,7 +56,9 @@ void check_scene_options(const SceneOptions& scene) {
 Scene load_scene(const SceneOptions& scene) { return scene.builtin.empty() ? load_gltf(scene.scene_file) : cornell_box(); }
 
 void add_size_option(CommandLine& command_line, std::string& size) {
-  command_line.add("--size", size, "image size WIDTHxHEIGHT").show_default();
+  command_line.add("--size", size,
+                   "image size WIDTHxHEIGHT; pixels stay square: the camera's vertical field of view (glTF yfov) spans the height, the width follows the image's aspect, whatever the camera's aspectRatio")
+      .show_default();
 }
 
 void add_sampling_options(CommandLine& command_line, RenderSettings& settings) {

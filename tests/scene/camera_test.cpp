@@ -16,10 +16,11 @@
 namespace {
 
 /// Continuous pixel coordinates of world point `p` seen by `camera` on a width x height image,
-/// computed from the camera's definition (independently of PinholeProjection).
+/// computed from the camera's definition (independently of PinholeProjection): square pixels, the
+/// vertical field of view over the height, the camera's own aspect ignored.
 glm::vec2 project(const igi::Camera& camera, int width, int height, const glm::vec3& p) {
   const glm::vec3 local(glm::inverse(camera.camera_to_world) * glm::vec4(p, 1.0f));
-  const float aspect = camera.aspect > 0.0f ? camera.aspect : float(width) / float(height);
+  const float aspect = float(width) / float(height);
   const float t = std::tan(0.5f * camera.yfov);
   const float x = local.x / -local.z / (aspect * t);  // -1 at the left edge, +1 at the right
   const float y = local.y / -local.z / t;             // +1 at the top edge
@@ -97,7 +98,10 @@ TEST_CASE("find_camera by name", "[scene][camera]") {
 
 TEST_CASE("PinholeProjection: centre, edges and corners match the field of view; y grows downwards", "[scene][camera]") {
   const igi::Camera camera = igi::cornell_box().cameras[0];
-  const igi::PinholeProjection projection(camera, 200, 100);  // aspect 1 from the camera, not the image's 2
+  // The camera says aspect 1; the image is 2:1, and pixels stay square: the vertical field of
+  // view spans the height, the horizontal one is twice as wide in tangent.
+  REQUIRE(camera.aspect == 1.0f);
+  const igi::PinholeProjection projection(camera, 200, 100);
   CHECK(projection.origin() == camera.position());
   const glm::vec3 forward(0, 0, 1);  // the Cornell camera looks along +Z
   CHECK(glm::length(projection.direction(100, 50) - forward) < 1e-6f);  // unit vectors: float rounding
@@ -109,15 +113,20 @@ TEST_CASE("PinholeProjection: centre, edges and corners match the field of view;
   CHECK(std::acos(glm::dot(top, forward)) == Approx(half).epsilon(angle_tolerance));
   CHECK(top.y > 0.0f);
   CHECK(projection.direction(100, 100).y == Approx(-top.y));
-  // Left edge: the camera's left is world +X after the 180 degree turn; aspect 1 -> same half angle.
+  // Left edge: the camera's left is world +X after the 180 degree turn; the image's aspect 2
+  // doubles the tangent of the half angle.
   const glm::vec3 left = projection.direction(0, 50);
   CHECK(left.x > 0.0f);
-  CHECK(std::acos(glm::dot(left, forward)) == Approx(half).epsilon(angle_tolerance));
+  CHECK(std::acos(glm::dot(left, forward)) == Approx(std::atan(2.0f * std::tan(half))).epsilon(angle_tolerance));
+  // Square pixels: one pixel to the side turns the ray as much as one pixel down, at the centre.
+  const glm::vec3 right_one = projection.direction(101, 50), down_one = projection.direction(100, 51);
+  const glm::vec3 centre = projection.direction(100, 50);
+  CHECK(std::acos(glm::dot(right_one, centre)) == Approx(std::acos(glm::dot(down_one, centre))).epsilon(1e-3));
   for (const glm::vec3& d : {top, left, projection.direction(13.5f, 77.25f)})
     CHECK(glm::length(d) == Approx(1.0f).epsilon(1e-6));  // a normalized float vector: a few ulps
 }
 
-TEST_CASE("PinholeProjection: aspect 0 takes the image's, and directions project back to their pixels", "[scene][camera]") {
+TEST_CASE("PinholeProjection: any camera aspect gives the image's, and directions project back to their pixels", "[scene][camera]") {
   for (const float aspect : {0.0f, 2.5f}) {
     const igi::Camera camera = tilted_camera(aspect);
     const int width = 1000, height = 600;

@@ -47,7 +47,10 @@ inline const Camera* find_camera(const Scene& scene, std::string_view name) noex
 
 /// Primary rays of a pinhole camera for a width x height image: pixel (x, y) covers [x, x+1) x [y, y+1), y grows downwards, row 0 is the top.
 struct PinholeProjection {
-  /// Projection of `camera` onto a width x height image; the camera's aspect 0 takes the image's. Throws std::invalid_argument on a bad camera or size.
+  /// Projection of `camera` onto a width x height image with square pixels: the camera's vertical
+  /// field of view spans the image's height and the width follows from the image's own aspect, as
+  /// glTF viewers do, whatever the camera's `aspect` (a glTF aspectRatio other than the image's
+  /// would stretch the view). Throws std::invalid_argument on a bad camera or size.
   PinholeProjection(const Camera& camera, int width, int height) : width_(width), height_(height) {
     if (width <= 0 || height <= 0)
       throw std::invalid_argument("PinholeProjection: image size " + std::to_string(width) + "x" +
@@ -61,7 +64,7 @@ struct PinholeProjection {
       for (int r = 0; r < 4; ++r)
         if (!std::isfinite(camera.camera_to_world[c][r]))
           throw std::invalid_argument("PinholeProjection: camera '" + camera.name + "' has a non-finite transform");
-    const float aspect = camera.aspect > 0.0f ? camera.aspect : float(width) / float(height);
+    const float aspect = float(width) / float(height);
     const float half_height = std::tan(0.5f * camera.yfov);  // image plane at distance 1
     const float half_width = aspect * half_height;
     const glm::mat3 rotation(camera.camera_to_world);

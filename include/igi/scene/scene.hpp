@@ -85,7 +85,7 @@ struct Camera {
   std::string name;                  ///< glTF camera or node name.
   glm::mat4 camera_to_world{1.0f};   ///< Rigid transform of the camera.
   float yfov = 0.6860488f;           ///< Vertical field of view, radians (39.3077 deg, Cornell's).
-  float aspect = 0.0f;               ///< Width / height; 0 means "take the image's".
+  float aspect = 0.0f;               ///< The file's aspectRatio (0: none); frames keep square pixels with yfov, whatever it is.
   float znear = 1e-3f;               ///< Near distance along the view axis.
   /// World-space position of the eye.
   glm::vec3 position() const noexcept { return glm::vec3(camera_to_world[3]); }
