@@ -92,7 +92,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
   ProgressBar progress(std::uint64_t(options.frames), "frames");
   for (int f = 0; f < options.frames; ++f) {
     const auto index = std::uint32_t(f);
-    const igi::Camera view = sequence ? igi::apply_changes(renderer, animator(index)) : camera;
+    const igi::Camera view = sequence ? renderer.apply(animator(index)) : camera;
     frame = renderer.render(view, index);
     if (stop_requested()) return stopped("igi-render");
     milliseconds.push_back(frame.statistics.milliseconds);

@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
     const igi::programs::FrameNames names(output, frames);
     for (int f = 0; f < frames; ++f) {
       // Only values that differ are set, as TileRenderer::apply does (an unchanged scene is not re-committed).
-      const igi::Camera view = igi::apply_changes(renderer, animator(std::uint32_t(f)));
+      const igi::Camera view = renderer.apply(animator(std::uint32_t(f)));
       const igi::Frame frame = renderer.render(view, std::uint32_t(f));
       igi::write_image(names(f), frame.rgb8);
     }

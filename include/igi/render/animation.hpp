@@ -159,11 +159,4 @@ inline SceneChanges animate(const Scene& initial, const Camera& camera, Animatio
   return Animator(initial, camera, kind)(frame);
 }
 
-/// Applies `changes` to an igi::Renderer (or anything with `apply(SceneChanges)`) and returns the
-/// frame's camera; see TileEngine::apply.
-template <class Renderer>
-Camera apply_changes(Renderer& renderer, const SceneChanges& changes) {
-  return renderer.apply(changes);
-}
-
 }  // namespace igi
