@@ -42,6 +42,13 @@ inline void add_render_options(CommandLine& command_line, RenderOptions& o, cons
   add_sampling_options(command_line, o.settings);
   add_filter_option(command_line, o.filter);
   command_line.add("--clamp", o.settings.clamp_distance, "minimum VPL distance in 1/d^2 (negative: 2% of the scene diagonal)").show_default();
+  command_line.add("--compensate", o.settings.compensation_rays,
+                   "bias compensation: gather rays per pixel that return the light the clamp removes (0: off)")
+      .range(0, igi::max_compensation_rays)
+      .show_default();
+  command_line.add("--bounces", o.settings.max_bounces, "longest random walk of the light particles that leave VPLs")
+      .range(0, 64)
+      .show_default();
   add_backend_options(command_line, o.backend, o.packet);
   add_threads_option(command_line, o.settings.threads, threads_help);
   command_line.add("--frames", o.frames, frames_help).range(1, 100000).show_default();

@@ -106,6 +106,8 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
                                        : options.output;
   StatsJson extra = sampling_statistics(options.settings, filter.chosen());
   extra.set("clamp", options.settings.clamp_distance)
+      .set("compensation_rays", options.settings.compensation_rays)
+      .set("max_bounces", options.settings.max_bounces)
       .set("vpls_per_frame", frame.statistics.vpls)
       .set("vpl_ms", frame.statistics.vpl_milliseconds);
   if (options.profile)

@@ -2,7 +2,9 @@
 // Shared helpers of the render tests: frames through any backend and BRDF, and their statistics
 // (the scenes they render are built by scene_builders.hpp).
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/backends/reference/reference_backend.hpp"
@@ -43,6 +45,18 @@ inline double rmse(const Frame& a, const Frame& b) {
     sum += double(glm::dot(d, d));
   }
   return std::sqrt(sum / (3.0 * double(a.hdr.pixels.size())));
+}
+
+/// Pixels of `other` whose largest channel difference from `reference` exceeds `relative` times
+/// the reference pixel's largest channel (floored at 1e-6, so black pixels must match to 1e-6 x relative).
+inline std::size_t differing_pixels(const Frame& reference, const Frame& other, float relative) {
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < reference.hdr.pixels.size(); ++i) {
+    const glm::vec3 d = glm::abs(reference.hdr.pixels[i] - other.hdr.pixels[i]);
+    const glm::vec3& p = reference.hdr.pixels[i];
+    if (std::max(d.r, std::max(d.g, d.b)) > relative * std::max(1e-6f, std::max(p.r, std::max(p.g, p.b)))) ++count;
+  }
+  return count;
 }
 
 /// True if every channel of every pixel is finite.

@@ -40,12 +40,13 @@ TEST_CASE("profiling: stage times change nothing in the image and add up to at m
   CHECK(t.gbuffer > 0);
   CHECK(t.filter > 0);
   CHECK(t.compose > 0);
+  CHECK(t.compensate == 0);  // bias compensation is off by default
   const double stages_ms = double(t.total()) * 1e-6;
   INFO("stages " << stages_ms << " ms, frame " << profiled.statistics.milliseconds << " ms");
   CHECK(stages_ms <= profiled.statistics.milliseconds);
   int named = 0;
   t.each([&](const char*, std::uint64_t) { ++named; });
-  CHECK(named == 9);
+  CHECK(named == 10);
 
   renderer.set_profiling(false);
   CHECK(renderer.render(camera, 1).statistics.stages.total() == 0);

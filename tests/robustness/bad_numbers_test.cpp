@@ -210,6 +210,14 @@ TEST_CASE("bad numbers: 0 VPLs and interleave 0 are settings errors naming the s
   });
 }
 
+TEST_CASE("bad numbers: compensation rays outside 0..64 are a settings error naming the setting", "[robustness]") {
+  for (const int rays : {-1, max_compensation_rays + 1}) {
+    RenderSettings settings = small_settings();
+    settings.compensation_rays = rays;
+    CHECK_THAT(render_error<EmbreeBackend<8>>(cornell_box(), settings), Contains("compensation rays " + std::to_string(rays)));
+  }
+}
+
 TEST_CASE("bad numbers: runtime updates placing a vertex beyond 1e12 are refused and change nothing", "[robustness]") {
   // validate_scene holds the limit at load time; a moved instance or deformed mesh must hold it too,
   // or the next frame's shadow rays overflow as in the 1e30 case above.

@@ -4,6 +4,7 @@
 // (white furnace), packets equal to single lanes at W = 4, 8 and 16, and no NaN or Inf on
 // grazing and degenerate input.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -14,6 +15,7 @@
 #include <catch2/catch.hpp>
 
 #include "igi/shading/brdf_shaders.hpp"
+#include "igi/simd/sampling.hpp"
 #include "policy_lists.hpp"
 
 using namespace igi;
@@ -460,4 +462,90 @@ TEMPLATE_TEST_CASE("BRDF: grazing and degenerate input never yields NaN or Inf",
         CHECK(finite(brdf.evaluate(hit, p, vec3<W>(wi), vmask<W>(true))));
     }
   }
+}
+
+TEMPLATE_TEST_CASE("BRDF: one VPL adds at most intensity x (albedo + glossy) / (pi clamp^2) to a pixel", "[shading][brdf]",
+                   IGI_ALL_BRDF_SHADERS) {
+  const TestType brdf{};
+  constexpr float clamp_distance = 0.1f;
+  const float limit = std::numbers::inv_pi_v<float> / (clamp_distance * clamp_distance);
+  Rng rng(7u);
+  double largest_share = 0.0;  // the largest contribution seen, as a fraction of the bound
+  // Receivers at 0.001 to 10 clamp distances from a surface, omni or spot VPL, views all round,
+  // lobes from dull to sharper than any material (shininess 1e6): the sharp lobe close to its
+  // VPL is the firefly the bound exists for.
+  for (int trial = 0; trial < 2000; ++trial) {
+    const float shininess = std::pow(10.0f, 6.0f * rng.next());
+    const glm::vec3 albedo(rng.next(), rng.next(), rng.next()), glossy(rng.next(), rng.next(), rng.next());
+    const float phi = 6.2831853f * rng.next(), cos_theta = rng.next();
+    const float sin_theta = std::sqrt(1.0f - cos_theta * cos_theta);
+    const SurfaceHit<W> hit = flat_hit({sin_theta * std::cos(phi), sin_theta * std::sin(phi), std::max(cos_theta, 1e-3f)});
+    const BrdfParameters<W> p = parameters(albedo, glossy, shininess);
+    const float distance = clamp_distance * std::pow(10.0f, -3.0f + 4.0f * rng.next());
+    // The VPL where the lobe points half of the time (the worst case), anywhere above the rest.
+    glm::vec3 direction = glm::reflect(-hit.wo[0], glm::vec3(0, 0, 1));
+    if (rng.next() < 0.5f) direction = glm::normalize(glm::vec3(rng.next() - 0.5f, rng.next() - 0.5f, rng.next() + 1e-3f));
+    const Vpl vpl{.position = direction * distance, .normal = -direction, .intensity = glm::vec3(2.0f, 1.0f, 0.5f),
+                  .kind = rng.next() < 0.5f ? VplKind::omni : VplKind::surface};
+    const VplGeometry<W> g = connect(vpl, hit.position, hit.geometric_normal, clamp_distance, vmask<W>(true));
+    REQUIRE(g.transfer_limit == Approx(limit));
+    VplAccumulator<W> accumulator;
+    brdf.add_vpl(hit, p, g, vpl.intensity, accumulator, g.reaches);
+    for (int c = 0; c < 3; ++c) {
+      const float radiance = albedo[c] * std::numbers::inv_pi_v<float> * accumulator.irradiance[0][c] + accumulator.glossy[0][c];
+      const float bound = vpl.intensity[c] * (albedo[c] + glossy[c]) * limit;
+      INFO(TestType::name() << ": trial " << trial << ", shininess " << shininess << ", distance " << distance);
+      // 1e-5: float rounding of the products (the bound itself is exact arithmetic on the same values).
+      CHECK(radiance <= bound * (1.0f + 1e-5f));
+      largest_share = std::max(largest_share, double(radiance) / double(bound));
+    }
+  }
+  // The gathering shaders come close to the bound (so the check above saw contributions that
+  // could break it); the delta shaders gather nothing.
+  if constexpr (std::is_same_v<TestType, MirrorBrdf> || std::is_same_v<TestType, GlassBrdf>)
+    CHECK(largest_share == 0.0);
+  else
+    CHECK(largest_share > 0.5);
+}
+
+TEST_CASE("BRDF: the glossy bound cuts only lobes sharper than the clamp admits", "[shading][brdf]") {
+  // Head-on VPL at distance 1 with clamp 0.1 (bound 1 / (pi 0.01) = 31.8): a lobe of peak
+  // (s + 2) / (2 pi) stays whole while that is below the bound (s = 100: 16.2), and is cut to it
+  // above (s = 1000: 159.5).
+  const SurfaceHit<W> hit = flat_hit({0, 0, 1});
+  const Vpl vpl{.position = {0, 0, 1}, .normal = {0, 0, -1}, .intensity = glm::vec3(1.0f), .kind = VplKind::omni};
+  const VplGeometry<W> g = connect(vpl, hit.position, hit.geometric_normal, 0.1f, vmask<W>(true));
+  const float bound = std::numbers::inv_pi_v<float> / 0.01f;
+  for (const float s : {100.0f, 1000.0f}) {
+    VplAccumulator<W> accumulator;
+    PhongBrdf{}.add_vpl(hit, parameters(glm::vec3(0.0f), glm::vec3(1.0f), s), g, vpl.intensity, accumulator, g.reaches);
+    const float peak = (s + 2.0f) / (2.0f * std::numbers::pi_v<float>);
+    CHECK(accumulator.glossy[0].x == Approx(std::min(peak, bound)).epsilon(1e-4));
+  }
+}
+
+TEST_CASE("BRDF: a VPL spread over a sphere widens the glossy lobe and keeps it normalised", "[shading][brdf]") {
+  // Phong exponent 1000 seen from straight above; a VPL at distance 1 in the mirror direction and
+  // one 10 degrees off it (about 5 lobe widths, 1/sqrt(1000) rad): as a point the first gets the
+  // peak and the second almost nothing; spread over a sphere of radius 0.3 (sin^2 of its half-angle
+  // 0.083, exponent 1000 / (1 + 41.3) = 23.7) the peak drops and the lobe reaches the second.
+  const SurfaceHit<W> hit = flat_hit({0, 0, 1});
+  const BrdfParameters<W> p = parameters(glm::vec3(0.0f), glm::vec3(1.0f), 1000.0f);
+  const auto glossy_from = [&](float angle, float radius) {
+    const glm::vec3 direction(std::sin(angle), 0.0f, std::cos(angle));
+    const Vpl vpl{.position = direction, .normal = -direction, .intensity = glm::vec3(1.0f), .radius = radius};
+    const VplGeometry<W> g = connect(vpl, hit.position, hit.geometric_normal, 0.0f, vmask<W>(true));
+    VplAccumulator<W> accumulator;
+    PhongBrdf{}.add_vpl(hit, p, g, vpl.intensity, accumulator, g.reaches);
+    return accumulator.glossy[0].x;
+  };
+  const float off = 10.0f * std::numbers::pi_v<float> / 180.0f;
+  const float spread = 0.09f / 1.09f, exponent = 1000.0f / (1.0f + 500.0f * spread);
+  const float cos_off = std::cos(off);
+  CHECK(glossy_from(0.0f, 0.0f) == Approx(1002.0f / (2.0f * std::numbers::pi_v<float>)).epsilon(1e-4));
+  CHECK(glossy_from(0.0f, 0.3f) == Approx((exponent + 2.0f) / (2.0f * std::numbers::pi_v<float>)).epsilon(1e-4));
+  // The surface VPL's own cosine is 1 towards the receiver; the receiver's is cos(off).
+  CHECK(glossy_from(off, 0.3f) ==
+        Approx((exponent + 2.0f) / (2.0f * std::numbers::pi_v<float>) * std::pow(cos_off, exponent) * cos_off).epsilon(1e-4));
+  CHECK(glossy_from(off, 0.0f) < 1e-3f * glossy_from(off, 0.3f));
 }

@@ -28,8 +28,13 @@
 /// any average of sets does too; that is what lets interleaving give each pixel one set. The
 /// 1/d^2 clamp lives in connect(); nothing is clamped here. Walks end after `max_bounces`
 /// scattering events (a bias: light reflected more often than that is missing, a fraction
-/// rho^(max_bounces + 1) of the total for albedo rho). Glossy lobes do not scatter particles
-/// (their energy ends the walk), and an alpha cut-out lets the particle through unchanged.
+/// rho^(max_bounces + 1) of the total for albedo rho). A glossy lobe as wide as a diffuse one
+/// (exponent at most `wide_lobe_shininess`, e.g. glTF's metallic with roughness 1, Sponza's
+/// curtains) reflects particles as a diffuse surface would: its VPL and its diffuse continuation
+/// count albedo plus the lobe's reflectance towards the continuation's direction (the BRDF's
+/// f x cos / pdf, an unbiased estimate of the lobe's directional albedo, at most 1). Sharper glossy lobes do not scatter particles
+/// (their energy ends the walk: the light a polished surface reflects onto others is missing),
+/// and an alpha cut-out lets the particle through unchanged.
 
 #include <algorithm>
 #include <cmath>
@@ -68,6 +73,12 @@ struct VplGeneration {
   int walks_per_set = 0;                       ///< N: walks (particles) per set.
   double vpls_per_walk = 0.0;                  ///< m: the pilot's mean VPLs per walk, which sized N.
 };
+
+/// Phong exponents up to which a glossy lobe scatters light particles as a diffuse surface does:
+/// cos^2 falls to half 45 degrees off the mirror direction, a lobe as wide as the cosine lobe of
+/// a diffuse surface (whose light also halves at 60 degrees), so a diffuse VPL shows it as well as
+/// it can show anything; a sharper lobe's reflected light would be put where it does not go.
+inline constexpr float wide_lobe_shininess = 2.0f;
 
 /// QMC random-walk VPL sampler (instant radiosity with randomized Halton), the paper's default.
 class QmcVplSampler {
@@ -229,10 +240,26 @@ class QmcVplSampler {
         continue;
       }
       layers = 0;
-      const glm::vec3 albedo = glm::clamp(parameters.albedo[0], glm::vec3(0.0f), glm::vec3(1.0f));
       const glm::vec3 position = surface.position[0];
       const glm::vec3 geometric = surface.geometric_normal[0];
       ++bounce;
+      const int dimension = first_bounce_dimension + 3 * (bounce - 1);
+      // The diffuse continuation: cosine-distributed around the shading normal.
+      glm::vec3 n = parameters.normal[0];
+      if (!(glm::dot(n, geometric) > 0.0f)) n = geometric;
+      glm::vec3 diffuse_direction = sample_cosine_hemisphere(n, u(dimension + 1), u(dimension + 2));
+      // A bumped normal can send the sample under the surface; mirror it back above.
+      const float below = glm::dot(diffuse_direction, geometric);
+      if (below <= 0.0f) diffuse_direction = glm::normalize(diffuse_direction - 2.0f * below * geometric);
+      // What the hit reflects diffusely: its albedo, plus a wide glossy lobe's reflectance
+      // towards the diffuse continuation (f x cos / pdf with pdf = cos / pi, an unbiased estimate
+      // of the lobe's directional albedo). Written as !(>) so that a NaN exponent counts as sharp.
+      glm::vec3 albedo = glm::clamp(parameters.albedo[0], glm::vec3(0.0f), glm::vec3(1.0f));
+      const float cosine = glm::dot(n, diffuse_direction);
+      if (!(parameters.shininess[0] > wide_lobe_shininess) && light_detail::largest_component(parameters.glossy[0]) > 0.0f &&
+          cosine > 0.0f)
+        albedo = glm::clamp(brdf.evaluate(surface, parameters, vec3<1>(diffuse_direction), one)[0] * (std::numbers::pi_v<float> / cosine),
+                            glm::vec3(0.0f), glm::vec3(1.0f));
       if (light_detail::largest_component(albedo) > 0.0f) {
         vpls.push_back({.position = position,
                         .normal = geometric,
@@ -253,16 +280,10 @@ class QmcVplSampler {
         q_reflect /= total;
         q_refract /= total;
       }
-      const int dimension = first_bounce_dimension + 3 * (bounce - 1);
       const float choice = u(dimension);
       if (choice < q_diffuse) {
         flux *= albedo / q_diffuse;
-        glm::vec3 n = parameters.normal[0];
-        if (!(glm::dot(n, geometric) > 0.0f)) n = geometric;
-        direction = sample_cosine_hemisphere(n, u(dimension + 1), u(dimension + 2));
-        // A bumped normal can send the sample under the surface; mirror it back above.
-        const float below = glm::dot(direction, geometric);
-        if (below <= 0.0f) direction = glm::normalize(direction - 2.0f * below * geometric);
+        direction = diffuse_direction;
       } else if (choice < q_diffuse + q_reflect) {
         flux *= reflection.weight[0] / q_reflect;
         direction = reflection.direction[0];

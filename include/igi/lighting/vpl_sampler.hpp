@@ -21,7 +21,7 @@ struct VplSettings {
   int vpls_per_set = 16;         ///< M: VPLs each pixel connects to.
   std::uint32_t frame = 0;       ///< Frame index: the randomisation of the QMC sequence.
   std::uint32_t seed = 0;        ///< User seed.
-  int max_bounces = 8;           ///< Longest random walk (Russian roulette usually ends it first).
+  int max_bounces = 32;          ///< Longest random walk (Russian roulette usually ends it first; RenderSettings::max_bounces says why 32).
   Bounds scene_bounds{};         ///< The scene's world bounds this frame (for lights at infinity); empty: the sampler computes them.
 };
 

@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "igi/lighting/vpl_sampler.hpp"
+#include "igi/lighting/vpl_spread.hpp"
 #include "igi/render/float_mode.hpp"
 #include "igi/render/settings.hpp"
 #include "igi/render/tone_mapping.hpp"
@@ -44,11 +45,12 @@ struct FrameState {
   float clamp_distance = 0.0f;                 ///< Resolved minimum VPL distance.
   float ray_epsilon = 1e-4f;                   ///< ray_offset of the scene: how far rays start off surfaces.
   ToneMapping tone_mapping;                    ///< Parameters from the previous frame.
+  std::uint32_t index = 0;                     ///< Frame index: what randomises the frame's samples.
   bool profile = false;                        ///< Time each stage into TileResult::stages (2-9% slower frames).
 
   /// Builds frame `index` of `scene` (committed in `backend`) seen by `camera`, to be tone mapped
   /// with `tone_mapping`: VPLs from `sampler`, whose walks shade their hits with the frame's own
-  /// `surface` and `brdf` shaders, and clamp and ray offsets from the scene's world `bounds`
+  /// `surface` and `brdf` shaders, spread for glossy receivers by assign_vpl_radii, and clamp and ray offsets from the scene's world `bounds`
   /// (SceneBounds keeps them without walking every vertex each frame).
   template <class B, class Surface, class Brdf, class Sampler>
     requires VplSampler<Sampler, B, Surface, Brdf>
@@ -59,6 +61,7 @@ struct FrameState {
       const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
       vpls = sampler.generate(scene, backend, surface, brdf, vpl_settings_for(frame_settings, index, bounds));
     }
+    assign_vpl_radii(vpls);
     this->scene = &scene;
     geometry.update(scene);
     projection.emplace(camera, frame_settings.width, frame_settings.height);
@@ -67,6 +70,7 @@ struct FrameState {
     clamp_distance = resolve_clamp(frame_settings, diagonal);
     ray_epsilon = ray_offset(bounds);
     tone_mapping = frame_tone_mapping;
+    this->index = index;
     profile = false;
   }
   /// True once prepare has run.

@@ -8,6 +8,8 @@
 ///   3. the surface shader turns every hit into BRDF parameters (alpha cut-outs re-traced);
 ///   4. for each VPL of the set's k-th subset, for each packet: a coherent shadow packet, one
 ///      occlusion query, and the BRDF shader's masked contribution;
+///   4b. with bias compensation (RenderSettings::compensation_rays), short gather rays from the
+///       primary hits return the light the 1/d^2 clamp removed (see `compensate`);
 ///   5. mirror and glass rays spawned by the BRDF shader run steps 2-4 again, level by level;
 ///   6. the G-buffer receives irradiance, glossy radiance, albedo, normal, depth and the rest.
 /// Then the filter reconstructs irradiance, radiance is composed, luminance statistics recorded,
@@ -18,6 +20,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -25,12 +29,14 @@
 
 #include "igi/backends/backend.hpp"
 #include "igi/filters/filter.hpp"
+#include "igi/lighting/lights.hpp"
 #include "igi/render/frame_state.hpp"
 #include "igi/render/interleaving.hpp"
 #include "igi/shading/brdf_shader.hpp"
 #include "igi/shading/constants.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 #include "igi/shading/surface_shader.hpp"
+#include "igi/simd/sampling.hpp"
 
 namespace igi {
 
@@ -38,7 +44,7 @@ namespace igi {
 struct RayCounts {
   std::uint64_t primary = 0;    ///< Camera rays, alpha cut-out continuations included.
   std::uint64_t shadow = 0;     ///< Occlusion rays towards VPLs.
-  std::uint64_t secondary = 0;  ///< Mirror and glass rays.
+  std::uint64_t secondary = 0;  ///< Mirror and glass rays, and bias compensation's gather rays.
   /// Adds another tile's counts.
   void merge(const RayCounts& o) noexcept {
     primary += o.primary;
@@ -57,6 +63,7 @@ struct StageTimes {
   std::uint64_t surface = 0;  ///< Step 3: hit points and the surface shader (alpha cut-outs re-traced inside).
   std::uint64_t connect = 0;  ///< Step 4 less occlusion: VPL geometry terms, shadow rays made, BRDF contributions.
   std::uint64_t shadow = 0;   ///< Step 4: occlusion queries towards the VPLs.
+  std::uint64_t compensate = 0;  ///< Step 4b: gather rays made and their light added (their tracing, shading and VPLs count above).
   std::uint64_t spawn = 0;    ///< Step 5: mirror and glass rays made.
   std::uint64_t gbuffer = 0;  ///< Step 6: G-buffer writes.
   std::uint64_t filter = 0;   ///< The irradiance filter.
@@ -81,12 +88,13 @@ struct StageTimes {
   /// A stage's name and its field.
   using Field = std::pair<const char*, std::uint64_t StageTimes::*>;
   /// The stages by name, in pipeline order: the one list merge, total and each walk.
-  static constexpr std::array<Field, 9> fields() noexcept {
+  static constexpr std::array<Field, 10> fields() noexcept {
     return {{{"primary", &StageTimes::primary},
              {"closest", &StageTimes::closest},
              {"surface", &StageTimes::surface},
              {"connect", &StageTimes::connect},
              {"shadow", &StageTimes::shadow},
+             {"compensate", &StageTimes::compensate},
              {"spawn", &StageTimes::spawn},
              {"gbuffer", &StageTimes::gbuffer},
              {"filter", &StageTimes::filter},
@@ -148,6 +156,7 @@ class Pipeline {
   struct Workspace {
     std::vector<PixelPacket<W>> pixels;                ///< Primary packets of the current set.
     std::vector<std::vector<StreamPacket>> levels;     ///< Stream per bounce depth.
+    std::vector<StreamPacket> gather;                  ///< Bias compensation's gather rays, grouped by gather ray.
     TileGBuffer gbuffer;                               ///< Tile + border.
     FilteredTile filtered;                             ///< Filter output.
     StageTimes stages;                                 ///< The current tile's stage times.
@@ -182,6 +191,7 @@ class Pipeline {
       for (int k = 0; k < s.antialiasing; ++k) {
         trace_primary(frame, k, work, out.rays);
         shade_level(frame, set, k, work, 0, out.rays);
+        compensate(frame, set, k, work, out.rays);
         for (int depth = 0; depth < s.max_depth && !work.levels[depth].empty(); ++depth) {
           {
             const StageTimer timer(work.timing(&StageTimes::spawn));
@@ -232,6 +242,7 @@ class Pipeline {
     const StageTimer timer(work.timing(&StageTimes::closest));
     for (StreamPacket& packet : level) {
       packet.hits.clear();
+      if (none(packet.active)) continue;  // a gather packet whose lanes all missed or face away
       backend_->intersect(packet.rays, packet.hits, coherence, packet.active);
       count += std::uint64_t(popcount(packet.active));
     }
@@ -249,20 +260,25 @@ class Pipeline {
         packet.light = {};
       }
     }
-    // The VPL loop is timed whole as `connect`, its occlusion queries also alone as `shadow`,
-    // which is then taken out of `connect`.
+    const int subsets = frame.settings.antialiasing;
+    // Each subset alone estimates the full light, so a sub-sample's subset is weighted by N.
+    gather_vpls(frame, set, std::size_t(k), std::size_t(subsets), float(subsets), level, work, counts);
+  }
+
+  /// Step 4 for `packets`: VPLs first, first + stride, ... of set `set`, each weighted by
+  /// `weight`, against every packet. The loop is timed whole as `connect`, its occlusion queries
+  /// also alone as `shadow`, which is then taken out of `connect`.
+  void gather_vpls(const FrameState& frame, int set, std::size_t first, std::size_t stride, float weight,
+                   std::span<StreamPacket> packets, Workspace& work, RayCounts& counts) const {
     const std::uint64_t shadow_before = work.stages.shadow;
     std::uint64_t vpl_loop = 0;
     {
       const StageTimer loop_timer(work.profile ? &vpl_loop : nullptr);
       const std::vector<Vpl>& vpls = frame.vpls.sets[std::size_t(set)];
-      const int subsets = frame.settings.antialiasing;
-      // Each subset alone estimates the full light, so a sub-sample's subset is weighted by N.
-      const float subset_weight = float(subsets);
-      for (std::size_t j = std::size_t(k); j < vpls.size(); j += std::size_t(subsets)) {
+      for (std::size_t j = first; j < vpls.size(); j += stride) {
         const Vpl& vpl = vpls[j];
-        const glm::vec3 intensity = vpl.intensity * subset_weight;
-        for (StreamPacket& packet : level) {
+        const glm::vec3 intensity = vpl.intensity * weight;
+        for (StreamPacket& packet : packets) {
           if (none(packet.hit)) continue;
           const VplGeometry<W> geometry =
               connect(vpl, packet.surface.position, packet.surface.geometric_normal, frame.clamp_distance, packet.hit);
@@ -284,6 +300,84 @@ class Pipeline {
       }
     }
     if (work.profile) work.stages.connect += vpl_loop - (work.stages.shadow - shadow_before);
+  }
+
+  /// Step 4b, bias compensation (Kollig and Keller, "Illumination in the presence of weak
+  /// singularities", 2004) for the primary hits of sub-sample k. The clamp replaces 1/d^2 by
+  /// 1/max(d^2, c^2); the light it removes is that of the surfaces y closer than c, weighted by
+  /// 1 - d^2/c^2. R gather rays per pixel, cosine-distributed around the shading normal and
+  /// traced no further than c, find those surfaces; each hit y is lit by its own share of the
+  /// pixel's VPLs (gather ray g takes every R-th VPL of the sub-sample's subset, weighted by R,
+  /// so the R rays together cost at most one pass over the set) plus its emission, and
+  /// pi x L(y) x (1 - d^2/c^2) / R is added to the pixel's irradiance, which is then filtered
+  /// with the rest. The estimate is unbiased for the diffuse part up to L(y)'s own clamp (a
+  /// second-order term); glossy lobes' light near their VPLs is not returned. Gather directions
+  /// are hashed from the pixel, the frame index, the seed, k and g: the same on every tile,
+  /// thread, process and packet width.
+  void compensate(const FrameState& frame, int set, int k, Workspace& work, RayCounts& counts) const {
+    const int rays = frame.settings.compensation_rays;
+    const float reach = frame.clamp_distance;
+    auto& level = work.levels[0];
+    auto& gather = work.gather;
+    gather.clear();
+    if (rays <= 0 || !(reach > 0.0f)) return;
+    std::uint64_t gather_time = 0;
+    {
+      const StageTimer timer(work.profile ? &gather_time : nullptr);
+      const std::uint32_t frame_key = hash(hash(frame.index, frame.settings.seed), std::uint32_t(k));
+      for (int g = 0; g < rays; ++g)
+        for (std::size_t p = 0; p < level.size(); ++p) {
+          const StreamPacket& packet = level[p];
+          StreamPacket& child = gather.emplace_back();
+          child.pixels = packet.pixels;
+          child.active = packet.hit & packet.parameters.opaque;
+          if (none(child.active)) continue;
+          const vec3<W> normal = shading_frame_normal(packet.surface, packet.parameters);
+          const PixelPacket<W>& pixels = work.pixels[std::size_t(packet.pixels)];
+          vec3<W> direction;
+          for (int i = 0; i < W; ++i) {
+            if (!child.active[i]) continue;
+            const std::uint32_t pixel = std::uint32_t(pixels.y[i]) * std::uint32_t(frame.settings.width) + std::uint32_t(pixels.x[i]);
+            Rng rng(hash(hash(frame_key, pixel), std::uint32_t(g)));
+            const float u1 = rng.next(), u2 = rng.next();
+            direction.set(i, sample_cosine_hemisphere(normal[i], u1, u2));
+          }
+          // A direction below the geometric surface would start inside the object: that lane gathers nothing.
+          child.active &= dot(direction, packet.surface.geometric_normal) > vfloat<W>(0.0f);
+          child.rays.set(leave_surface(packet.surface.position, packet.surface.geometric_normal, direction, frame.ray_epsilon),
+                         direction, vfloat<W>(0.0f), vfloat<W>(reach), child.active);
+        }
+    }
+    trace_level(work, gather, Coherence::incoherent, counts.secondary);
+    {
+      const StageTimer timer(work.timing(&StageTimes::surface));
+      for (StreamPacket& packet : gather) {
+        shade_surface(frame, packet, Coherence::incoherent, counts.secondary);
+        packet.light = {};
+      }
+    }
+    const std::size_t subsets = std::size_t(frame.settings.antialiasing);
+    const std::span<StreamPacket> all(gather);
+    for (int g = 0; g < rays; ++g)
+      gather_vpls(frame, set, std::size_t(k) + std::size_t(g) * subsets, subsets * std::size_t(rays),
+                  float(subsets) * float(rays), all.subspan(std::size_t(g) * level.size(), level.size()), work, counts);
+    {
+      const StageTimer timer(work.profile ? &gather_time : nullptr);
+      const float inverse_reach2 = 1.0f / (reach * reach);
+      for (int g = 0; g < rays; ++g)
+        for (std::size_t p = 0; p < level.size(); ++p) {
+          const StreamPacket& ray = gather[std::size_t(g) * level.size() + p];
+          if (none(ray.hit)) continue;
+          const vfloat<W> distance = ray.surface.distance;
+          const vfloat<W> share = max(vfloat<W>(1.0f) - distance * distance * vfloat<W>(inverse_reach2), vfloat<W>(0.0f)) *
+                                  vfloat<W>(std::numbers::pi_v<float> / float(rays));
+          const vec3<W> radiance = ray.parameters.emission + ray.parameters.albedo * ray.light.irradiance * vfloat<W>(inv_pi) +
+                                   ray.light.glossy;
+          level[p].light.irradiance += keep(radiance * share, ray.hit);
+        }
+    }
+    // gather_time holds only the making and the adding; tracing, shading and VPLs went to their own stages.
+    if (work.profile) work.stages.compensate += gather_time;
   }
 
   /// Step 3 for one packet: hit points, BRDF parameters, and rays continued through alpha

@@ -29,7 +29,7 @@ class DiffuseGlossySampling {
  public:
   /// The lobes of `parameters` at `hit`, with the same shading normal the BRDF shaders use.
   DiffuseGlossySampling(const SurfaceHit<1>& hit, const BrdfParameters<1>& parameters) noexcept {
-    normal_ = brdf_detail::shading_frame_normal(hit, parameters)[0];
+    normal_ = shading_frame_normal(hit, parameters)[0];
     const glm::vec3 wo = hit.wo[0];
     reflected_ = 2.0f * glm::dot(normal_, wo) * normal_ - wo;
     const float length = glm::length(reflected_);

@@ -33,17 +33,6 @@ namespace igi {
 
 namespace brdf_detail {
 
-/// The unit normal shading uses: the surface shader's, or the geometric one where that is not
-/// a usable unit vector (zero, NaN) or faces away from wo.
-template <int W>
-vec3<W> shading_frame_normal(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters) noexcept {
-  const vfloat<W> length2 = length_squared(parameters.normal);
-  // A unit normal has length^2 = 1; anything far from it (zero, or NaN which fails every
-  // comparison) is replaced. 0.25 separates "zero or broken" from "unit up to rounding".
-  const vmask<W> usable = (length2 > vfloat<W>(0.25f)) & (dot(parameters.normal, hit.wo) > vfloat<W>(0.0f));
-  return select(usable, normalize(parameters.normal), hit.geometric_normal);
-}
-
 /// Mirror direction of `wo` about unit `n`.
 template <int W>
 vec3<W> reflect(const vec3<W>& wo, const vec3<W>& n) noexcept {
@@ -114,7 +103,13 @@ vfloat<W> phong_lobe(const vec3<W>& n, const vec3<W>& wo, const vfloat<W>& shini
   return (s + vfloat<W>(2.0f)) * vfloat<W>(0.5f * inv_pi) * pow_unit(alignment, s);
 }
 
-/// The glossy part: glossy += intensity x falloff x cos(theta_x) x f_glossy.
+/// The glossy part: glossy += intensity x glossy x min(falloff x cos(theta_x) x lobe, transfer_limit).
+/// The lobe is that of a VPL spread over its sphere (VplGeometry::spread): the Phong lobe
+/// cos^s, close to a Gaussian of angular variance 1/s, seen through a cone of half-angle a adds
+/// about a^2 / 2 to that variance, so its exponent becomes s / (1 + s sin^2(a) / 2), the lobe
+/// stays normalised (energy is kept, the highlight widens to the light the VPL stands for). Then
+/// what is left sharper than the clamp admits is cut to the bound a diffuse receiver has, so no
+/// single VPL makes a firefly on a glossy surface.
 template <int W>
 void add_glossy(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const vec3<W>& n,
                 const VplGeometry<W>& geometry, const glm::vec3& intensity, VplAccumulator<W>& accumulator,
@@ -122,7 +117,9 @@ void add_glossy(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, c
   const vmask<W> lanes = mask & (max_component(parameters.glossy) > vfloat<W>(0.0f));
   if (none(lanes)) return;
   const vfloat<W> cosine = max(dot(n, geometry.wi), vfloat<W>(0.0f));
-  const vfloat<W> scale = geometry.falloff * cosine * phong_lobe(n, hit.wo, parameters.shininess, geometry.wi);
+  const vfloat<W> shininess = parameters.shininess / (vfloat<W>(1.0f) + vfloat<W>(0.5f) * parameters.shininess * geometry.spread);
+  const vfloat<W> scale = min(geometry.falloff * cosine * phong_lobe(n, hit.wo, shininess, geometry.wi),
+                              vfloat<W>(geometry.transfer_limit));
   accumulator.glossy += keep(vec3<W>(intensity) * parameters.glossy * scale, lanes);
 }
 
@@ -208,7 +205,7 @@ class LambertBrdf {
   template <int W>
   void add_vpl(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const VplGeometry<W>& geometry,
                const glm::vec3& intensity, VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
-    brdf_detail::add_irradiance(brdf_detail::shading_frame_normal(hit, parameters), geometry, intensity, accumulator,
+    brdf_detail::add_irradiance(shading_frame_normal(hit, parameters), geometry, intensity, accumulator,
                            mask & parameters.opaque);
   }
   /// No secondary rays.
@@ -237,7 +234,7 @@ class PhongBrdf {
   void add_vpl(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const VplGeometry<W>& geometry,
                const glm::vec3& intensity, VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
     const vmask<W> lanes = mask & parameters.opaque;
-    const vec3<W> n = brdf_detail::shading_frame_normal(hit, parameters);
+    const vec3<W> n = shading_frame_normal(hit, parameters);
     brdf_detail::add_irradiance(n, geometry, intensity, accumulator, lanes);
     brdf_detail::add_glossy(hit, parameters, n, geometry, intensity, accumulator, lanes);
   }

@@ -68,6 +68,18 @@ struct BrdfParameters {
   }
 };
 
+/// The unit normal shading uses: the surface shader's, or the geometric one where that is not
+/// a usable unit vector (zero, NaN) or faces away from wo. The BRDF shaders' cosines and the
+/// pipeline's gather rays all take it.
+template <int W>
+vec3<W> shading_frame_normal(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters) noexcept {
+  const vfloat<W> length2 = length_squared(parameters.normal);
+  // A unit normal has length^2 = 1; anything far from it (zero, or NaN which fails every
+  // comparison) is replaced. 0.25 separates "zero or broken" from "unit up to rounding".
+  const vmask<W> usable = (length2 > vfloat<W>(0.25f)) & (dot(parameters.normal, hit.wo) > vfloat<W>(0.0f));
+  return select(usable, normalize(parameters.normal), hit.geometric_normal);
+}
+
 /// `a` in the lanes of `mask`, `b` elsewhere, for SurfaceHit and BrdfParameters alike.
 template <class Packet, int W>
   requires std::same_as<Packet, SurfaceHit<W>> || std::same_as<Packet, BrdfParameters<W>>
