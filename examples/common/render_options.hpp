@@ -46,6 +46,11 @@ inline void add_render_options(CommandLine& command_line, RenderOptions& o, cons
                    "bias compensation: gather rays per pixel that return the light the clamp removes (0: off)")
       .range(0, igi::max_compensation_rays)
       .show_default();
+  command_line.add("--roulette", o.settings.shadow_roulette,
+                   "shadow-ray Russian roulette: VPLs below this fraction of a pixel's light so far get a shadow ray with "
+                   "probability in proportion (unbiased; 0: every VPL gets one)")
+      .range(0.0f, 1.0f)
+      .show_default();
   command_line.add("--bounces", o.settings.max_bounces, "longest random walk of the light particles that leave VPLs")
       .range(0, 64)
       .show_default();

@@ -107,6 +107,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
   StatsJson extra = sampling_statistics(options.settings, filter.chosen());
   extra.set("clamp", options.settings.clamp_distance)
       .set("compensation_rays", options.settings.compensation_rays)
+      .set("shadow_roulette", double(options.settings.shadow_roulette))
       .set("max_bounces", options.settings.max_bounces)
       .set("vpls_per_frame", frame.statistics.vpls)
       .set("vpl_ms", frame.statistics.vpl_milliseconds);

@@ -210,6 +210,14 @@ TEST_CASE("bad numbers: 0 VPLs and interleave 0 are settings errors naming the s
   });
 }
 
+TEST_CASE("bad numbers: a shadow roulette outside 0..1 or NaN is a settings error naming the setting", "[robustness]") {
+  for (const float fraction : {-0.1f, 1.5f, std::numeric_limits<float>::quiet_NaN()}) {
+    RenderSettings settings = small_settings();
+    settings.shadow_roulette = fraction;
+    CHECK_THAT(render_error<EmbreeBackend<8>>(cornell_box(), settings), Contains("shadow roulette"));
+  }
+}
+
 TEST_CASE("bad numbers: compensation rays outside 0..64 are a settings error naming the setting", "[robustness]") {
   for (const int rays : {-1, max_compensation_rays + 1}) {
     RenderSettings settings = small_settings();

@@ -275,6 +275,7 @@ class Pipeline {
     {
       const StageTimer loop_timer(work.profile ? &vpl_loop : nullptr);
       const std::vector<Vpl>& vpls = frame.vpls.sets[std::size_t(set)];
+      const float roulette = frame.settings.shadow_roulette;
       for (std::size_t j = first; j < vpls.size(); j += stride) {
         const Vpl& vpl = vpls[j];
         const glm::vec3 intensity = vpl.intensity * weight;
@@ -288,6 +289,10 @@ class Pipeline {
           // The shadow ray stops short of the VPL by the offset so it does not hit the VPL's own surface.
           const vfloat<W> length = max(geometry.distance - vfloat<W>(2.0f * frame.ray_epsilon), vfloat<W>(0.0f));
           shadow.set(origin, geometry.wi, vfloat<W>(0.0f), length, geometry.reaches);
+          if (roulette > 0.0f) {
+            play_roulette(frame, std::uint32_t(j), packet, geometry, intensity, shadow, work, counts);
+            continue;
+          }
           // Shadow rays all end at one VPL: coherent, even from a mirror's scattered hit points.
           vmask<W> occluded;
           {
@@ -300,6 +305,49 @@ class Pipeline {
       }
     }
     if (work.profile) work.stages.connect += vpl_loop - (work.stages.shadow - shadow_before);
+  }
+
+  /// Step 4 for one VPL and packet with shadow-ray Russian roulette: the VPL's unoccluded light is
+  /// computed first; on lanes where it is below `shadow_roulette` x what the pixel gathered so far
+  /// (both as the sum of irradiance and pi x glossy radiance over the channels) the shadow ray is
+  /// traced with probability p = light / (shadow_roulette x gathered) and the light, if visible,
+  /// weighted 1/p. The random number is hashed from the pixel, the VPL, the sub-sample's VPL
+  /// index and the frame, so every packet width, tile, thread and process makes the same choice.
+  void play_roulette(const FrameState& frame, std::uint32_t vpl_index, StreamPacket& packet, const VplGeometry<W>& geometry,
+                     const glm::vec3& intensity, RayPacket<W>& shadow, Workspace& work, RayCounts& counts) const {
+    VplAccumulator<W> light;
+    brdf_->add_vpl(packet.surface, packet.parameters, geometry, intensity, light, geometry.reaches);
+    const auto size = [](const VplAccumulator<W>& a) {
+      const vec3<W> sum = a.irradiance + a.glossy * vfloat<W>(std::numbers::pi_v<float>);
+      return sum.x + sum.y + sum.z;
+    };
+    const vfloat<W> threshold = size(packet.light) * vfloat<W>(frame.settings.shadow_roulette);
+    const vfloat<W> gain = size(light);
+    const vmask<W> faint = geometry.reaches & (gain < threshold);
+    vmask<W> traced = geometry.reaches;
+    vfloat<W> boost(1.0f);
+    if (any(faint)) {
+      const PixelPacket<W>& pixels = work.pixels[std::size_t(packet.pixels)];
+      const vuint<W> pixel([&](int i) {
+        return std::uint32_t(pixels.y[i]) * std::uint32_t(frame.settings.width) + std::uint32_t(pixels.x[i]);
+      });
+      const std::uint32_t key = hash(hash(frame.index, frame.settings.seed), vpl_index);
+      const vfloat<W> u = to_unit_float(hash(hash(pixel) ^ vuint<W>(key)));
+      // On faint lanes gain < threshold, so the probability is below 1 (and above 0 where light arrives).
+      const vfloat<W> probability = select(faint, gain / select(faint, threshold, vfloat<W>(1.0f)), vfloat<W>(1.0f));
+      traced = geometry.reaches & (!faint | (u < probability));
+      boost = select(faint, vfloat<W>(1.0f) / max(probability, vfloat<W>(std::numeric_limits<float>::min())), boost);
+    }
+    if (none(traced)) return;
+    vmask<W> occluded;
+    {
+      const StageTimer timer(work.timing(&StageTimes::shadow));
+      occluded = backend_->occluded(shadow, Coherence::coherent, traced);
+    }
+    counts.shadow += std::uint64_t(popcount(traced));
+    const vmask<W> visible = traced & !occluded;
+    packet.light.irradiance += keep(light.irradiance * boost, visible);
+    packet.light.glossy += keep(light.glossy * boost, visible);
   }
 
   /// Step 4b, bias compensation (Kollig and Keller, "Illumination in the presence of weak

@@ -30,6 +30,10 @@ struct RenderSettings {
   /// VPL count does not grow with it: fewer walks fill M); the cap cuts rho^33 of the light of
   /// albedo rho, 6e-4 at 0.8 (8 bounces cut 1% of a Cornell corner view's light, measured).
   int max_bounces = 32;
+  /// Shadow-ray Russian roulette: a VPL whose unoccluded light is below this fraction of what the
+  /// pixel has gathered so far gets its shadow ray with probability light / (fraction x gathered)
+  /// and, if visible, that much more weight (unbiased: fewer rays, a little more noise). 0: off.
+  float shadow_roulette = 0.0f;
   int compensation_rays = 0;      ///< Bias compensation: gather rays per pixel that return the light the clamp removes (0: off).
   std::uint32_t seed = 0;         ///< Randomisation of the QMC sequences.
   int threads = 0;                ///< Worker threads; 0 means all cores.
@@ -70,6 +74,8 @@ inline void validate(const RenderSettings& s) {
   require(s.antialiasing <= s.vpls_per_pixel,
           "aa " + std::to_string(s.antialiasing) + " exceeds vpls " + std::to_string(s.vpls_per_pixel) +
               ": each sub-sample needs at least one VPL of its own");
+  require(s.shadow_roulette >= 0.0f && s.shadow_roulette <= 1.0f,
+          "shadow roulette " + std::to_string(s.shadow_roulette) + " is outside 0..1");
   require(s.compensation_rays >= 0 && s.compensation_rays <= max_compensation_rays,
           "compensation rays " + std::to_string(s.compensation_rays) + " is outside 0.." +
               std::to_string(max_compensation_rays));
