@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs igi's whole benchmark suite, the source of every number bench/README.md quotes: builds the
 # bench targets (Release, native preset), runs them, writes bench/results/*.json, draws PNG
-# charts (matplotlib in a venv this script makes) and rewrites the generated tables in
+# charts (Debian's python3-matplotlib) and rewrites the generated tables in
 # bench/README.md (between <!-- bench:NAME --> and <!-- /bench:NAME -->; the hand-written text
 # around them stays).
 #
@@ -13,7 +13,7 @@
 #   --no-build     use the binaries already in the build folder
 #   --frames N     timed frames per configuration (default 3; medians are reported)
 #
-# Needs the Debian packages of scripts/deps.sh; pip reaches PyPI for matplotlib (charts are
+# Needs the Debian packages of scripts/deps.sh, and python3-matplotlib for the charts (charts are
 # skipped with a message if it cannot). The suite itself took 944-951 s on 2 cores at load average
 # 12-15 (other builds running, about a quarter of the cores for it); an idle machine needs less.
 set -euo pipefail
@@ -58,6 +58,74 @@ if [[ $build == 1 ]]; then
 fi
 
 start=$(date +%s)  # the suite's own time starts after the build
+if [[ $smoke == 1 ]]; then
+  results="$(mktemp -d)"
+  trap 'rm -rf "$results"' EXIT
+  extra=(--smoke)
+else
+  results="$here/results"
+  mkdir -p "$results"
+  extra=("--frames=$frames")
+fi
+
+bin() { echo "$build_dir/bench/$1/$2"; }
+# run NAME PROGRAM ARGS...: one benchmark process whose JSON goes to $results/NAME.json.
+run() {
+  local name="$1" program="$2"
+  shift 2
+  if [[ ! -x "$program" ]]; then
+    echo "run_all.sh: $program is not built: $name skipped"
+    return 0
+  fi
+  echo "== $name: $(basename "$program") $*"
+  local t0=$(date +%s)
+  "$program" "$@" --benchmark_format=console --benchmark_out="$results/$name.json" --benchmark_out_format=json
+  echo "== $name: $(( $(date +%s) - t0 )) s"
+}
+
+pipeline="$(bin pipeline pipeline_bench)"
+scaling="$(bin scaling scaling_bench)"
+run efficiency "$pipeline" "${extra[@]}" --benchmark_filter='^efficiency/'
+run table1 "$pipeline" "${extra[@]}" --benchmark_filter='^table1/'
+run table3 "$pipeline" "${extra[@]}" --benchmark_filter='^table3/'
+run fps "$pipeline" "${extra[@]}" --benchmark_filter='^fps/'
+run threads "$pipeline" "${extra[@]}" --benchmark_filter='^threads/'
+run width "$pipeline" "${extra[@]}" --benchmark_filter='^width/'
+# One process per scene size, so each one's peak memory is its own.
+if [[ -x "$scaling" ]]; then
+  rm -f "$results"/size_*.json  # the list of sizes may have changed since the last run
+  i=0
+  while read -r size; do
+    [[ -n "$size" ]] || continue
+    run "size_$i" "$scaling" "${extra[@]}" --benchmark_filter="^${size}/iterations:"
+    i=$((i + 1))
+  done < <("$scaling" "${extra[@]}" --benchmark_list_tests | sed 's|/iterations:.*||')
+fi
+run shading "$(bin shading shading_bench)" "${extra[@]}"
+# How EmbreeBackend<16> traces coherent shadow packets around Embree's looping kernel (medians of 5;
+# the smoke run times each way once, briefly).
+if [[ $smoke == 1 ]]; then
+  run occlusion16 "$(bin backends occlusion16_bench)" --benchmark_min_time=0.01
+else
+  run occlusion16 "$(bin backends occlusion16_bench)" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+    --benchmark_min_time=0.2
+fi
+
+seconds=$(( $(date +%s) - start ))
+load_after=$(cut -d' ' -f1-3 /proc/loadavg)
+cat > "$results/machine.json" <<EOF
+{"date": "$(date -u +%Y-%m-%dT%H:%MZ)", "seconds": $seconds, "cores": $(nproc), "load_before": "$load_before",
+ "load_after": "$load_after", "frames": $frames, "smoke": $smoke,
+ "note": "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//; s/"//g')"}
+EOF
+
+# Charts need matplotlib: Debian's python3-matplotlib (scripts/chart_python.sh installs it when missing).
+charts=--charts
+if ! python="$(bash "$here/../scripts/chart_python.sh")"; then
+  echo "run_all.sh: no python3-matplotlib: no charts"
+  charts=""
+  python=python3
+fi
 if [[ $smoke == 1 ]]; then
   results="$(mktemp -d)"
   trap 'rm -rf "$results"' EXIT

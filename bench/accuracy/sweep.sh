@@ -30,22 +30,13 @@ for scene in "${scenes[@]}"; do
 done
 [ ${#chosen[@]} -gt 0 ] || { echo "sweep: no scene to run" >&2; exit 1; }
 
-# Python with matplotlib and numpy in a virtual environment of its own.
-venv="$build/sweep/venv"
-if [ ! -x "$venv/bin/python" ]; then
-  if ! python3 -c "import venv, ensurepip" 2> /dev/null; then
-    if [ "$(id -u)" = 0 ]; then apt-get install -y python3-venv; else
-      echo "sweep: python3-venv is missing: sudo apt-get install python3-venv" >&2; exit 1; fi
-  fi
-  mkdir -p "$build/sweep"
-  python3 -m venv "$venv"
-fi
-"$venv/bin/python" -c "import matplotlib, numpy" 2> /dev/null || "$venv/bin/pip" install --quiet matplotlib numpy
+# Python with matplotlib and numpy: Debian's (scripts/chart_python.sh installs them when missing).
+python="$(bash "$root/scripts/chart_python.sh")" || { echo "sweep: charts need python3-matplotlib" >&2; exit 1; }
 
 # Only the two programs the sweep runs.
 [ -f "$build/CMakeCache.txt" ] || (cd "$root" && cmake --preset native -B "$build")
 cmake --build "$build" -j 2 --target igi-render igi-compare
 
 echo "sweep: $(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores, $(uptime)"
-time "$venv/bin/python" "$here/sweep.py" "$build" "$build/sweep" "$root/bench/results" "${chosen[@]}"
+time "$python" "$here/sweep.py" "$build" "$build/sweep" "$root/bench/results" "${chosen[@]}"
 echo "sweep: done $(date -u '+%Y-%m-%d %H:%M UTC'), $(uptime)"
