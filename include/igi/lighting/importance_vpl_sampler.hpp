@@ -86,6 +86,7 @@ struct ImportanceVplGeneration {
   double image_flux = 0.0;                      ///< Phi: one set's mean contribution to the view points.
   double threshold = 0.0;                       ///< tau of the acceptance p = min(1, c / tau + floor).
   int view_points = 0;                          ///< Camera rays that found a surface that reflects.
+  double qmc_acceptance = 1.0;                  ///< Share of candidates the rule keeps at QMC's walk count (1: nothing seen).
 };
 
 /// What a VPL adds to a frame's view points: the importance estimate of ImportanceVplSampler.
@@ -137,6 +138,7 @@ class ImportanceVplSampler {
     int view_samples = 64;        ///< Camera rays of the estimate (a jittered grid over the image).
     float floor_share = 0.1f;     ///< Share of the kept VPLs spent, in expectation, on candidates the view points do not see.
     int max_oversampling = 16;    ///< Most candidates per set, in multiples of the VPLs it keeps.
+    float least_gain = 2.0f;      ///< Acceptance runs only where it can raise the share of VPLs that light the view this much.
   };
 
   /// Policy name.
@@ -152,6 +154,9 @@ class ImportanceVplSampler {
     if (!(settings.floor_share > 0.0f && settings.floor_share < 1.0f))
       throw std::invalid_argument("ImportanceVplSampler: floor_share must be in (0, 1), got " +
                                   std::to_string(settings.floor_share));
+    if (!(settings.least_gain >= 1.0f) || !std::isfinite(settings.least_gain))
+      throw std::invalid_argument("ImportanceVplSampler: least_gain must be finite and >= 1, got " +
+                                  std::to_string(settings.least_gain));
     if (settings.max_oversampling < 1 || settings.max_oversampling > max_oversampling_limit)
       throw std::invalid_argument("ImportanceVplSampler: max_oversampling must be in 1.." +
                                   std::to_string(max_oversampling_limit) + ", got " +
@@ -203,11 +208,33 @@ class ImportanceVplSampler {
     const Pilot pilot = run_pilot(scene, geometry, tracer, shader, brdf, settings, lights, view);
     generation.vpls_per_walk = pilot.vpls_per_walk;
     const bool importance_known = pilot.image_flux > 0.0 && std::isfinite(pilot.image_flux);
+    // The share of candidates Georgiev and Slusallek's rule would keep at QmcVplSampler's walk
+    // count: mean(min(1, c / mean c)); 1 / that bounds how much more of the view's light the
+    // kept VPLs can carry than QMC's.
+    if (importance_known) {
+      const double mean = pilot.image_flux / pilot.vpls_per_walk;
+      double kept = 0.0;
+      for (const double c : pilot.contributions) kept += std::min(1.0, c / mean);
+      out.qmc_acceptance = kept / double(pilot.contributions.size());
+    }
+    if (!importance_known || out.qmc_acceptance * double(settings_.least_gain) >= 1.0) {
+      // Nothing seen, or light spread so evenly over the view that acceptance cannot gain
+      // least_gain: its weights and the walks it drops would cost more than it brings, so these
+      // are QmcVplSampler's VPLs, every candidate kept.
+      const int exact_count = int(exact.size());
+      ImportanceVplGeneration qmc{.generation = QmcVplSampler{}.generate_with_origins(scene, tracer, shader, brdf, settings),
+                                  .view_points = out.view_points,
+                                  .qmc_acceptance = out.qmc_acceptance};
+      for (const auto& set : qmc.generation.vpls.sets) {
+        qmc.probability.emplace_back(set.size(), 1.0f);
+        qmc.candidates += int(set.size()) - exact_count;
+      }
+      return qmc;
+    }
     const double budget = std::max(1.0, double(settings.vpls_per_set) - double(exact.size()));
     const double per_walk = std::max(pilot.vpls_per_walk, 1.0 / double(pilot.walks));
-    // Without importance (nothing seen), QmcVplSampler's walk count, every candidate kept.
-    long walks = std::clamp(std::lround(budget / per_walk), 1L, 16L * long(settings.vpls_per_set));
-    if (importance_known) {
+    long walks = 1;
+    {
       // Expected kept candidates of a set of n walks under Georgiev and Slusallek's target Phi / B
       // without the floor, from the pilot's (whose c is for one walk: c / n in a set of n).
       const auto expected_kept = [&](long n) {
@@ -257,11 +284,10 @@ class ImportanceVplSampler {
         if (on_light) candidates[s].push_back({*on_light, {j, 0}, 0.0, true});
         for (std::size_t k = 0; k < walk_vpls.size(); ++k) candidates[s].push_back({walk_vpls[k], walk_origins[k], 0.0, false});
       }
-      if (importance_known)
-        for (Candidate& candidate : candidates[s]) {
-          candidate.contribution = view.contribution(candidate.vpl, tracer);
-          set_flux[s] += candidate.contribution;
-        }
+      for (Candidate& candidate : candidates[s]) {
+        candidate.contribution = view.contribution(candidate.vpl, tracer);
+        set_flux[s] += candidate.contribution;
+      }
       out.candidates += int(candidates[s].size());
     }
 
@@ -272,7 +298,7 @@ class ImportanceVplSampler {
     // contributions are even; where a few candidates carry most of Phi (they are kept whatever
     // tau is) the smaller tau at which the sets keep B each on average, found by bisection.
     double threshold = 1.0;
-    if (importance_known && image_flux > 0.0) {
+    if (image_flux > 0.0) {
       const auto expected_kept = [&](double tau) {
         double kept = 0.0;
         for (const auto& set : candidates)
@@ -313,7 +339,7 @@ class ImportanceVplSampler {
           if (candidate.on_light != on_lights) continue;
           const std::uint32_t decision = hash(hash(hash(accept_seed, std::uint32_t(s)), std::uint32_t(on_lights)), k++);
           const double p =
-              importance_known && image_flux > 0.0 ? std::min(1.0, candidate.contribution / threshold + floor) : 1.0;
+              image_flux > 0.0 ? std::min(1.0, candidate.contribution / threshold + floor) : 1.0;
           if (!(to_unit_float(decision) < p)) continue;
           Vpl vpl = candidate.vpl;
           vpl.intensity *= float(1.0 / p);
