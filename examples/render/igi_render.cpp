@@ -18,7 +18,7 @@
 #include "common/stats_json.hpp"
 #include "common/stop_signals.hpp"
 #include "igi/render/animation.hpp"
-#include "igi/lighting/vpl_sampler_choice.hpp"
+#include "common/importance_sampler.hpp"
 #include "igi/render/filter_choice.hpp"
 #include "igi/render/path_tracer.hpp"
 #include "igi/render/renderer.hpp"
@@ -77,9 +77,9 @@ template <class B>
 int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
   const igi::GltfMaterialShader surface(scene);
   const igi::StandardBrdf brdf;
-  const igi::VplSamplerChoice sampler(options.vpl_sampler);
+  const igi::programs::ProgramVplSampler sampler(options.vpl_sampler);
   const igi::FilterChoice filter(options.filter);
-  igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::VplSamplerChoice, igi::FilterChoice> renderer(
+  igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::programs::ProgramVplSampler, igi::FilterChoice> renderer(
       scene, options.settings, surface, brdf, sampler, filter);
   renderer.set_profiling(options.profile);
   const igi::Animation animation = igi::parse_animation(options.animate);

@@ -24,7 +24,7 @@
 #include "igi/backends/reference/reference_backend.hpp"
 #include "igi/backends/saarcor/saarcor_backend.hpp"
 #include "igi/io/image_files.hpp"
-#include "igi/lighting/vpl_sampler_choice.hpp"
+#include "common/importance_sampler.hpp"
 #include "igi/render/animation.hpp"
 #include "igi/render/filter_choice.hpp"
 #include "igi/render/renderer.hpp"
@@ -83,9 +83,9 @@ class TypedViewRenderer final : public ViewRenderer {
   // The renderer borrows the policies: they are declared (so built) before it.
   igi::GltfMaterialShader surface_;
   igi::StandardBrdf brdf_;
-  igi::VplSamplerChoice sampler_;
+  igi::programs::ProgramVplSampler sampler_;
   igi::FilterChoice filter_;
-  igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::VplSamplerChoice, igi::FilterChoice> renderer_;
+  igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::programs::ProgramVplSampler, igi::FilterChoice> renderer_;
 };
 
 /// A renderer for `choice`.

@@ -37,18 +37,21 @@ bool inside_room(const glm::vec3& p) {
          p.z < 4.0f + margin;
 }
 
-// The settings of frame `frame` seen by the scene's first camera at 320 x 240, with the clamp a
-// frame of that scene resolves by default.
-VplSettings view_settings(const Scene& scene, int vpls, std::uint32_t frame, std::uint32_t seed = 3) {
+// The scene's first camera at 320 x 240, with the clamp a frame of that scene resolves by default.
+VplView first_camera_view(const Scene& scene) {
   RenderSettings render;
   render.width = 320;
   render.height = 240;
+  return {.projection = PinholeProjection(scene.cameras.front(), render.width, render.height),
+          .clamp_distance = resolve_clamp(render, glm::length(scene.bounds().extent()))};
+}
+
+// The settings of frame `frame` with M = `vpls` seen from `view` (borrowed: it must outlive them).
+VplSettings view_settings(const Scene& scene, const VplView& view, int vpls, std::uint32_t frame, std::uint32_t seed = 3) {
+  RenderSettings render;
   render.vpls_per_pixel = vpls;
   render.seed = seed;
-  const Bounds bounds = scene.bounds();
-  const VplView view{.projection = PinholeProjection(scene.cameras.front(), render.width, render.height),
-                     .clamp_distance = resolve_clamp(render, glm::length(bounds.extent()))};
-  return vpl_settings_for(render, frame, bounds, view);
+  return vpl_settings_for(render, frame, scene.bounds(), &view);
 }
 
 double mean_rgb(const glm::vec3& v) { return (double(v.x) + v.y + v.z) / 3.0; }
@@ -166,16 +169,19 @@ TEST_CASE("ImportanceVplSampler: bad settings are errors that name the setting",
   const Scene scene = cornell_box();
   const ReferenceBackend<4> backend(scene);
   const ImportanceVplSampler sampler;
+  const VplView view = first_camera_view(scene);
   const GltfMaterialShader shader(scene);
   VplSettings no_view{.sets = 4, .vpls_per_set = 8};
   CHECK_THROWS_WITH(sampler.generate(scene, backend, shader, StandardBrdf{}, no_view),
-                    Catch::Contains("ImportanceVplSampler: VplSettings::view is empty"));
-  VplSettings bad = view_settings(scene, 8, 0);
+                    Catch::Contains("ImportanceVplSampler: VplSettings::view is null"));
+  VplSettings bad = view_settings(scene, view, 8, 0);
   bad.vpls_per_set = 0;
   CHECK_THROWS_WITH(sampler.generate(scene, backend, shader, StandardBrdf{}, bad),
                     "ImportanceVplSampler: vpls_per_set must be >= 1, got 0");
-  bad = view_settings(scene, 8, 0);
-  bad.view->clamp_distance = -1.0f;
+  bad = view_settings(scene, view, 8, 0);
+  VplView no_clamp = view;
+  no_clamp.clamp_distance = -1.0f;
+  bad.view = &no_clamp;
   CHECK_THROWS_WITH(sampler.generate(scene, backend, shader, StandardBrdf{}, bad),
                     Catch::Contains("clamp distance must be finite and >= 0"));
   CHECK_THROWS_WITH(ImportanceVplSampler({.view_samples = 0}), "ImportanceVplSampler: view_samples must be in 1..4096, got 0");
@@ -188,9 +194,10 @@ TEST_CASE("ImportanceVplSampler: bad settings are errors that name the setting",
 TEST_CASE("ImportanceVplSampler: the same VPLs on every packet width, and on every backend up to float rounding",
           "[lighting][vpl][importance]") {
   const Scene scene = window_room();
+  const VplView view = first_camera_view(scene);
   const GltfMaterialShader shader(scene);
   const ImportanceVplSampler sampler;
-  const VplSettings settings = view_settings(scene, 16, 4);
+  const VplSettings settings = view_settings(scene, view, 16, 4);
   const VplSets embree1 = sampler.generate(scene, EmbreeBackend<1>(scene), shader, StandardBrdf{}, settings);
   const VplSets embree16 = sampler.generate(scene, EmbreeBackend<16>(scene), shader, StandardBrdf{}, settings);
   const VplSets reference = sampler.generate(scene, ReferenceBackend<8>(scene), shader, StandardBrdf{}, settings);
@@ -202,8 +209,8 @@ TEST_CASE("ImportanceVplSampler: the same VPLs on every packet width, and on eve
   CHECK(close(embree1, reference, 1e-4f, 1e-4f));
   CHECK(close(embree1, saarcor, 1e-4f, 1e-4f));
   // ... and they depend on the frame and the seed.
-  CHECK_FALSE(same(embree1, sampler.generate(scene, EmbreeBackend<1>(scene), shader, StandardBrdf{}, view_settings(scene, 16, 5))));
-  CHECK_FALSE(same(embree1, sampler.generate(scene, EmbreeBackend<1>(scene), shader, StandardBrdf{}, view_settings(scene, 16, 4, 9))));
+  CHECK_FALSE(same(embree1, sampler.generate(scene, EmbreeBackend<1>(scene), shader, StandardBrdf{}, view_settings(scene, view, 16, 5))));
+  CHECK_FALSE(same(embree1, sampler.generate(scene, EmbreeBackend<1>(scene), shader, StandardBrdf{}, view_settings(scene, view, 16, 4, 9))));
 }
 
 TEST_CASE("ImportanceVplSampler: a frame's VPLs do not depend on the thread count; FrameState passes the view",
@@ -230,16 +237,17 @@ TEST_CASE("ImportanceVplSampler: a frame's VPLs do not depend on the thread coun
   const VplView view{.projection = PinholeProjection(scene.cameras.front(), settings.width, settings.height),
                      .clamp_distance = resolve_clamp(settings, glm::length(bounds.extent()))};
   const VplSets direct =
-      ImportanceVplSampler{}.generate(scene, EmbreeBackend<8>(scene), shader, brdf, vpl_settings_for(settings, 2, bounds, view));
+      ImportanceVplSampler{}.generate(scene, EmbreeBackend<8>(scene), shader, brdf, vpl_settings_for(settings, 2, bounds, &view));
   CHECK(same(frames[0], direct));
 }
 
 TEST_CASE("ImportanceVplSampler: finite VPLs, probabilities in (0, 1], exact delta VPLs untouched, about M per set",
           "[lighting][vpl][importance]") {
   const Scene scene = window_room();
+  const VplView view = first_camera_view(scene);
   const EmbreeBackend<4> backend(scene);
   const GltfMaterialShader shader(scene);
-  const VplSettings settings = view_settings(scene, 16, 1);
+  const VplSettings settings = view_settings(scene, view, 16, 1);
   const ImportanceVplGeneration g = ImportanceVplSampler{}.generate_with_statistics(scene, backend, shader, StandardBrdf{}, settings);
   const VplGeneration q = QmcVplSampler{}.generate_with_origins(scene, backend, shader, StandardBrdf{}, settings);
   std::size_t total = 0;
@@ -280,14 +288,15 @@ TEST_CASE("ImportanceVplSampler: in the window room the kept VPLs light what the
   // of VPLs (the sun's exact one aside) that add nothing to the view, and the share of their
   // summed power that reaches it.
   const Scene scene = window_room();
+  const VplView view = first_camera_view(scene);
   const EmbreeBackend<4> backend(scene);
   const GltfMaterialShader shader(scene);
   const SceneGeometry geometry(scene);
   const ImportanceVplSampler dense({.view_samples = 1024});
   double unseen[2] = {0, 0}, count[2] = {0, 0};
   for (std::uint32_t frame = 0; frame < 4; ++frame) {
-    const VplSettings settings = view_settings(scene, 16, frame);
-    const VplSettings judge_settings = view_settings(scene, 16, frame + 1000);
+    const VplSettings settings = view_settings(scene, view, 16, frame);
+    const VplSettings judge_settings = view_settings(scene, view, 16, frame + 1000);
     const ViewImportance judge(dense.view_points(scene, geometry, backend, shader, judge_settings),
                                judge_settings.view->clamp_distance, scene.bounds());
     const VplGeneration generations[2] = {
@@ -317,6 +326,7 @@ TEST_CASE("ImportanceVplSampler: each set's mean power over frames is QmcVplSamp
   // inside the room, agrees with QMC's within four combined standard errors.
   for (const bool window : {false, true}) {
     const Scene scene = window ? window_room() : cornell_box();
+    const VplView view = first_camera_view(scene);
     const EmbreeBackend<4> backend(scene);
     const GltfMaterialShader shader(scene);
     // In the Cornell box the default sampler keeps QMC's VPLs (light is even over the view):
@@ -325,7 +335,7 @@ TEST_CASE("ImportanceVplSampler: each set's mean power over frames is QmcVplSamp
     std::vector<double> importance, qmc, importance_room, qmc_room;
     constexpr int frames = 200;  // 200 frames x 9 sets: standard errors of 0.3-3% of the mean (the window room inside most)
     for (int f = 0; f < frames; ++f) {
-      const VplSettings settings = view_settings(scene, 16, std::uint32_t(f), 11);
+      const VplSettings settings = view_settings(scene, view, 16, std::uint32_t(f), 11);
       const ImportanceVplGeneration statistics = sampler.generate_with_statistics(scene, backend, shader, StandardBrdf{}, settings);
       REQUIRE(statistics.qmc_acceptance < 1.0);  // acceptance ran
       const VplGeneration& g = statistics.generation;
@@ -356,9 +366,10 @@ TEST_CASE("ImportanceVplSampler: evenly lit views, no lights, no view points - Q
     // The Cornell box's light is spread evenly over its view: acceptance would keep most
     // candidates anyway (gain under least_gain), so the sampler gives QMC's VPLs, bit for bit.
     const Scene scene = cornell_box();
+    const VplView view = first_camera_view(scene);
     const EmbreeBackend<8> backend(scene);
     const GltfMaterialShader shader(scene);
-    const VplSettings settings = view_settings(scene, 16, 3);
+    const VplSettings settings = view_settings(scene, view, 16, 3);
     const ImportanceVplGeneration g = ImportanceVplSampler{}.generate_with_statistics(scene, backend, shader, StandardBrdf{}, settings);
     std::printf("cornell: acceptance at QMC's walk count %.2f\n", g.qmc_acceptance);
     CHECK(g.qmc_acceptance > 0.5);
@@ -366,9 +377,10 @@ TEST_CASE("ImportanceVplSampler: evenly lit views, no lights, no view points - Q
   }
   Scene dark = cornell_box();
   for (Material& m : dark.materials) m.emission = glm::vec3(0.0f);
+  const VplView dark_view = first_camera_view(dark);
   const ReferenceBackend<4> dark_backend(dark);
   const VplSets none = ImportanceVplSampler{}.generate(dark, dark_backend, GltfMaterialShader(dark), StandardBrdf{},
-                                                       view_settings(dark, 16, 0));
+                                                       view_settings(dark, dark_view, 16, 0));
   REQUIRE(none.sets.size() == 9);
   for (const auto& set : none.sets) CHECK(set.empty());
 
@@ -377,9 +389,10 @@ TEST_CASE("ImportanceVplSampler: evenly lit views, no lights, no view points - Q
   Scene away = scene;
   away.cameras.front().camera_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 50.0f)) *
                                          glm::rotate(glm::mat4(1.0f), 3.14159265f, glm::vec3(0.0f, 1.0f, 0.0f));
+  const VplView away_view = first_camera_view(away);
   const ReferenceBackend<4> backend(scene);
   const ImportanceVplGeneration g = ImportanceVplSampler{}.generate_with_statistics(
-      scene, backend, GltfMaterialShader(scene), StandardBrdf{}, view_settings(away, 16, 0));
+      scene, backend, GltfMaterialShader(scene), StandardBrdf{}, view_settings(away, away_view, 16, 0));
   CHECK(g.view_points == 0);
   CHECK(g.image_flux == 0.0);
   for (const auto& set : g.probability)

@@ -195,7 +195,7 @@ class ImportanceVplSampler {
   }
 
   /// The frame's VPL sets with their origins and acceptance. Throws std::invalid_argument on bad
-  /// settings or when `settings.view` is empty (FrameState::prepare fills it).
+  /// settings or when `settings.view` is null (FrameState::prepare sets it).
   template <class Tracer, class Shader, class Brdf>
     requires SurfaceShader<Shader, 1> && BrdfShader<Brdf, 1>
   ImportanceVplGeneration generate_with_statistics(const Scene& scene, const Tracer& tracer, const Shader& shader,
@@ -203,7 +203,7 @@ class ImportanceVplSampler {
     QmcVplSampler::check(frame_settings, "ImportanceVplSampler");
     if (!frame_settings.view)
       throw std::invalid_argument(
-          "ImportanceVplSampler: VplSettings::view is empty; this sampler needs the frame's camera and image size "
+          "ImportanceVplSampler: VplSettings::view is null; this sampler needs the frame's camera and image size "
           "(FrameState::prepare fills them in)");
     if (!(frame_settings.view->clamp_distance >= 0.0f) || !std::isfinite(frame_settings.view->clamp_distance))
       throw std::invalid_argument("ImportanceVplSampler: the view's clamp distance must be finite and >= 0, got " +

@@ -7,7 +7,6 @@
 
 #include <concepts>
 #include <cstdint>
-#include <optional>
 
 #include "igi/lighting/vpl.hpp"
 #include "igi/scene/camera.hpp"
@@ -31,7 +30,7 @@ struct VplSettings {
   std::uint32_t seed = 0;        ///< User seed.
   int max_bounces = 8;           ///< Longest random walk (Russian roulette usually ends it first).
   Bounds scene_bounds{};         ///< The scene's world bounds this frame (for lights at infinity); empty: the sampler computes them.
-  std::optional<VplView> view{}; ///< The frame's view; samplers that do not look at the camera ignore it.
+  const VplView* view = nullptr; ///< The frame's view, borrowed for one generate call; samplers that do not look at the camera ignore it.
 };
 
 /// A VPL sampler: `generate(scene, tracer, surface, brdf, settings)` returns `settings.sets` sets

@@ -14,8 +14,10 @@
 
 namespace igi {
 
-/// One of QmcVplSampler or ImportanceVplSampler (default settings), itself a VplSampler.
-class VplSamplerChoice {
+/// One of QmcVplSampler or `Importance` (ImportanceVplSampler, or a type that runs it, with default
+/// settings), itself a VplSampler.
+template <class Importance = ImportanceVplSampler>
+class BasicVplSamplerChoice {
  public:
   /// Policy name.
   static constexpr const char* name() noexcept { return "choice"; }
@@ -24,11 +26,11 @@ class VplSamplerChoice {
   static constexpr const char* names() noexcept { return "qmc or importance"; }
 
   /// The sampler called `sampler_name` ("qmc" or "importance"); throws std::invalid_argument otherwise.
-  explicit VplSamplerChoice(std::string_view sampler_name) {
+  explicit BasicVplSamplerChoice(std::string_view sampler_name) {
     if (sampler_name == QmcVplSampler::name())
       sampler_ = QmcVplSampler{};
-    else if (sampler_name == ImportanceVplSampler::name())
-      sampler_ = ImportanceVplSampler{};
+    else if (sampler_name == Importance::name())
+      sampler_ = Importance{};
     else
       throw std::invalid_argument("unknown VPL sampler '" + std::string(sampler_name) + "' (" + names() + ")");
   }
@@ -48,7 +50,10 @@ class VplSamplerChoice {
   }
 
  private:
-  std::variant<QmcVplSampler, ImportanceVplSampler> sampler_{QmcVplSampler{}};
+  std::variant<QmcVplSampler, Importance> sampler_{QmcVplSampler{}};
 };
+
+/// QmcVplSampler or ImportanceVplSampler, chosen by name.
+using VplSamplerChoice = BasicVplSamplerChoice<>;
 
 }  // namespace igi

@@ -22,9 +22,9 @@
 namespace igi {
 
 /// The VPL settings of frame `index` rendered with `settings` in a scene of world `bounds`: S^2
-/// sets of M VPLs, the frame's seed and bounce limit, and the `view` (projection and clamp) if given.
+/// sets of M VPLs, the frame's seed and bounce limit, and the `view` (projection and clamp; borrowed) if given.
 inline VplSettings vpl_settings_for(const RenderSettings& settings, std::uint32_t index, const Bounds& bounds = {},
-                                    const std::optional<VplView>& view = std::nullopt) {
+                                    const VplView* view = nullptr) {
   VplSettings vpl_settings;
   vpl_settings.sets = settings.interleave * settings.interleave;
   vpl_settings.vpls_per_set = settings.vpls_per_pixel;
@@ -63,7 +63,7 @@ struct FrameState {
     {
       const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
       const VplView view{.projection = frame_projection, .clamp_distance = frame_clamp};
-      vpls = sampler.generate(scene, backend, surface, brdf, vpl_settings_for(frame_settings, index, bounds, view));
+      vpls = sampler.generate(scene, backend, surface, brdf, vpl_settings_for(frame_settings, index, bounds, &view));
     }
     this->scene = &scene;
     geometry.update(scene);
