@@ -68,22 +68,10 @@ double walk_flux(const VplGeneration& g, std::size_t set, bool in_room = false) 
   return sum;
 }
 
-bool same(const VplSets& a, const VplSets& b) {
-  if (a.sets.size() != b.sets.size()) return false;
-  for (std::size_t s = 0; s < a.sets.size(); ++s) {
-    if (a.sets[s].size() != b.sets[s].size()) return false;
-    for (std::size_t i = 0; i < a.sets[s].size(); ++i) {
-      const Vpl& x = a.sets[s][i];
-      const Vpl& y = b.sets[s][i];
-      if (x.position != y.position || x.normal != y.normal || x.intensity != y.intensity || x.kind != y.kind) return false;
-    }
-  }
-  return true;
-}
-
-// The same VPLs up to float rounding: the same kinds, counts and order, positions within
-// `distance`, intensities within a relative `rounding`. Backends compute hit points in their own
-// float order, so a walk's hits differ in their last bits (QmcVplSampler's VPLs do too).
+// The same VPLs up to float rounding: the same kinds, counts and order, positions and normals
+// within `distance`, intensities within a relative `rounding` (0 and 0: the same bits). Backends
+// compute hit points in their own float order, so a walk's hits differ in their last bits
+// (QmcVplSampler's VPLs do too).
 bool close(const VplSets& a, const VplSets& b, float distance, float rounding) {
   if (a.sets.size() != b.sets.size()) return false;
   for (std::size_t s = 0; s < a.sets.size(); ++s) {
@@ -91,12 +79,15 @@ bool close(const VplSets& a, const VplSets& b, float distance, float rounding) {
     for (std::size_t i = 0; i < a.sets[s].size(); ++i) {
       const Vpl& x = a.sets[s][i];
       const Vpl& y = b.sets[s][i];
-      if (x.kind != y.kind || glm::length(x.position - y.position) > distance) return false;
+      if (x.kind != y.kind || glm::length(x.position - y.position) > distance || glm::length(x.normal - y.normal) > distance)
+        return false;
       if (glm::length(x.intensity - y.intensity) > rounding * glm::length(x.intensity)) return false;
     }
   }
   return true;
 }
+
+bool same(const VplSets& a, const VplSets& b) { return close(a, b, 0.0f, 0.0f); }
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
