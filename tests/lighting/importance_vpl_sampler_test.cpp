@@ -204,7 +204,7 @@ TEST_CASE("ImportanceVplSampler: the same VPLs on every packet width, and on eve
   CHECK_FALSE(same(embree1, sampler.generate(scene, EmbreeBackend<1>(scene), shader, StandardBrdf{}, view_settings(scene, view, 16, 4, 9))));
 }
 
-TEST_CASE("ImportanceVplSampler: a frame's VPLs do not depend on the thread count; FrameState passes the view",
+TEST_CASE("ImportanceVplSampler: a frame's VPLs do not depend on the thread count, and FrameState passes the view",
           "[lighting][vpl][importance][render]") {
   Scene scene = window_room();
   const GltfMaterialShader shader(scene);
@@ -232,7 +232,7 @@ TEST_CASE("ImportanceVplSampler: a frame's VPLs do not depend on the thread coun
   CHECK(same(frames[0], direct));
 }
 
-TEST_CASE("ImportanceVplSampler: finite VPLs, probabilities in (0, 1], exact delta VPLs untouched, about M per set",
+TEST_CASE("ImportanceVplSampler: finite VPLs, probabilities above 0 and at most 1, exact delta VPLs untouched, about M per set",
           "[lighting][vpl][importance]") {
   const Scene scene = window_room();
   const VplView view = first_camera_view(scene);
@@ -276,8 +276,7 @@ TEST_CASE("ImportanceVplSampler: finite VPLs, probabilities in (0, 1], exact del
 TEST_CASE("ImportanceVplSampler: in the window room the kept VPLs light what the camera sees",
           "[lighting][vpl][importance][window]") {
   // Judged by an independent, denser view estimate (1024 camera rays of another jitter): the share
-  // of VPLs (the sun's exact one aside) that add nothing to the view, and the share of their
-  // summed power that reaches it.
+  // of VPLs (the sun's exact one aside) that add nothing to the view.
   const Scene scene = window_room();
   const VplView view = first_camera_view(scene);
   const EmbreeBackend<4> backend(scene);

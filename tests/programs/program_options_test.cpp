@@ -111,7 +111,7 @@ TEST_CASE("a run's shared stats fields are the scene, image, backend, output, an
   CHECK(run["vpl_sampler"] == "importance");
 }
 
-TEST_CASE("the built-in scenes are the Cornell box and the window room; the VPL sampler option names a VplSamplerChoice", "[programs]") {
+TEST_CASE("the built-in scenes are the Cornell box and the window room, and the VPL sampler option names a VplSamplerChoice", "[programs]") {
   igi::programs::SceneOptions scene;
   scene.builtin = "window";
   CHECK(igi::programs::load_scene(scene).name == "window");
