@@ -79,7 +79,7 @@ inline void add_object(Scene& scene, Mesh mesh, int material) {
 
 }  // namespace window_room_detail
 
-/// The window room scene (boxes and two quads, 8 materials, the sun, a sky panel, one camera), built in code.
+/// The window room scene (boxes and one quad, 8 materials, the sun, a sky panel, one camera), built in code.
 inline Scene window_room() {
   using namespace window_room_detail;
   Scene scene;
