@@ -19,7 +19,7 @@
 #include "common/stop_signals.hpp"
 #include "igi/render/animation.hpp"
 #include "igi/distributed/tile_farm.hpp"
-#include "igi/lighting/qmc_vpl_sampler.hpp"
+#include "common/importance_sampler.hpp"
 #include "igi/render/filter_choice.hpp"
 #include "igi/shading/brdf_shaders.hpp"
 #include "igi/shading/gltf_material_shader.hpp"
@@ -43,12 +43,12 @@ template <class B>
 int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, int rank) {
   const igi::GltfMaterialShader surface(scene);
   const igi::StandardBrdf brdf;
-  const igi::QmcVplSampler sampler;
+  const igi::programs::ProgramVplSampler sampler(options.vpl_sampler);
   const igi::FilterChoice filter(options.filter);
   const igi::Animation animation = igi::parse_animation(options.animate);
   const igi::Scene initial = scene;  // animations are functions of the initial scene
   const igi::Animator animator(initial, camera, animation);
-  using Renderer = igi::TileRenderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::QmcVplSampler, igi::FilterChoice>;
+  using Renderer = igi::TileRenderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::programs::ProgramVplSampler, igi::FilterChoice>;
   Renderer renderer(scene, options.settings, surface, brdf, sampler, filter);
   igi::FarmOptions farm_options = options.farm;
   farm_options.hdr_output = igi::image_format(options.output) != igi::ImageFormat::png;
@@ -95,7 +95,7 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
   const int threads = options.settings.threads > 0 ? options.settings.threads : tbb::info::default_concurrency();
   if (options.stats == "json") {
     run_statistics(scene, options, B::name(), B::width, options.animate)
-        .update(sampling_statistics(options.settings, filter.chosen()))
+        .update(sampling_statistics(options.settings, filter.chosen(), sampler.chosen()))
         .set("ranks", farm.size())
         .set("workers", farm.size() > 1 ? farm.size() - 1 : 1)
         .set("tiles", std::uint64_t(renderer.tiles().size()))

@@ -10,6 +10,7 @@
 #include "igi/io/image.hpp"
 #include "igi/scene/cornell.hpp"
 #include "igi/scene/gltf.hpp"
+#include "igi/scene/window_room.hpp"
 
 namespace igi::programs {
 
@@ -46,14 +47,19 @@ double median(std::vector<double> values) {
 
 void add_scene_options(CommandLine& command_line, SceneOptions& scene) {
   command_line.add("scene", scene.scene_file, "glTF scene (.gltf or .glb)");
-  command_line.add("--builtin", scene.builtin, "built-in scene instead of a file").choices({"cornell"});
+  command_line.add("--builtin", scene.builtin,
+                   "built-in scene instead of a file: cornell (the Cornell box) or window (a furnished room lit by the sun and sky through one window)")
+      .choices({"cornell", "window"});
 }
 
 void check_scene_options(const SceneOptions& scene) {
-  if (scene.scene_file.empty() == scene.builtin.empty()) throw UsageError("give either a SCENE file or --builtin cornell");
+  if (scene.scene_file.empty() == scene.builtin.empty()) throw UsageError("give either a SCENE file or --builtin cornell|window");
 }
 
-Scene load_scene(const SceneOptions& scene) { return scene.builtin.empty() ? load_gltf(scene.scene_file) : cornell_box(); }
+Scene load_scene(const SceneOptions& scene) {
+  if (scene.builtin.empty()) return load_gltf(scene.scene_file);
+  return scene.builtin == "window" ? window_room() : cornell_box();
+}
 
 void add_size_option(CommandLine& command_line, std::string& size) {
   command_line.add("--size", size,
@@ -69,6 +75,15 @@ void add_sampling_options(CommandLine& command_line, RenderSettings& settings) {
 
 void add_filter_option(CommandLine& command_line, std::string& filter) {
   command_line.add("--filter", filter, "irradiance filter").choices({"discontinuity", "box", "none"}).show_default();
+}
+
+void add_vpl_sampler_option(CommandLine& command_line, std::string& sampler) {
+  command_line.add("--vpl-sampler", sampler,
+                   "VPL sampler: qmc (the paper's light walks; VPLs where the light goes) or importance (the same "
+                   "walks, VPLs kept by their contribution to the view, for light that reaches the view through a "
+                   "window or a gap)")
+      .choices({"qmc", "importance"})
+      .show_default();
 }
 
 void add_backend_options(CommandLine& command_line, std::string& backend, int& packet) {

@@ -38,7 +38,7 @@ double median(std::vector<double> values);
 /// The scene a program renders: a glTF file or a built-in scene.
 struct SceneOptions {
   std::string scene_file;  ///< glTF file, or empty with --builtin.
-  std::string builtin;     ///< "cornell", or empty with a file.
+  std::string builtin;     ///< "cornell" or "window", or empty with a file.
 };
 
 /// Adds the positional SCENE file and --builtin.
@@ -54,6 +54,8 @@ void add_size_option(CommandLine& command_line, std::string& size);
 void add_sampling_options(CommandLine& command_line, RenderSettings& settings);
 /// Adds --filter: discontinuity, box or none.
 void add_filter_option(CommandLine& command_line, std::string& filter);
+/// Adds --vpl-sampler: qmc or importance (names of igi::VplSamplerChoice).
+void add_vpl_sampler_option(CommandLine& command_line, std::string& sampler);
 /// Adds --backend (embree, saarcor or reference) and --packet (the packet width W).
 void add_backend_options(CommandLine& command_line, std::string& backend, int& packet);
 /// Adds --threads (0: all cores), worded by `help`.

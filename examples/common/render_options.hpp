@@ -23,6 +23,7 @@ struct RenderOptions : SceneOptions {
   std::string output = "out.png";       ///< Image to write.
   std::string size = "640x480";         ///< WIDTHxHEIGHT as typed.
   std::string filter = "discontinuity"; ///< Filter name.
+  std::string vpl_sampler = "qmc";      ///< VPL sampler name.
   std::string backend = "embree";       ///< Backend name.
   std::string integrator = "igi";       ///< igi or path.
   std::string camera;                   ///< glTF camera name, or empty.
@@ -41,6 +42,7 @@ inline void add_render_options(CommandLine& command_line, RenderOptions& o, cons
   add_size_option(command_line, o.size);
   add_sampling_options(command_line, o.settings);
   add_filter_option(command_line, o.filter);
+  add_vpl_sampler_option(command_line, o.vpl_sampler);
   command_line.add("--clamp", o.settings.clamp_distance, "minimum VPL distance in 1/d^2 (negative: 2% of the scene diagonal)").show_default();
   command_line.add("--compensate", o.settings.compensation_rays,
                    "bias compensation: gather rays per pixel that return the light the clamp removes (0: off)")
@@ -119,13 +121,16 @@ inline StatsJson run_statistics(const Scene& scene, const RenderOptions& o, cons
   return stats;
 }
 
-/// The --stats json fields of IGI's sampling settings and the filter `filter` (the filter's own name for it).
-inline StatsJson sampling_statistics(const RenderSettings& settings, const std::string& filter) {
+/// The --stats json fields of IGI's sampling settings, the filter `filter` and the VPL sampler
+/// `vpl_sampler` (their own names for them).
+inline StatsJson sampling_statistics(const RenderSettings& settings, const std::string& filter,
+                                     const std::string& vpl_sampler) {
   StatsJson stats;
   stats.set("vpls_per_pixel", settings.vpls_per_pixel)
       .set("interleave", settings.interleave)
       .set("aa", settings.antialiasing)
-      .set("filter", filter);
+      .set("filter", filter)
+      .set("vpl_sampler", vpl_sampler);
   return stats;
 }
 

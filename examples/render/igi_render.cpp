@@ -18,7 +18,7 @@
 #include "common/stats_json.hpp"
 #include "common/stop_signals.hpp"
 #include "igi/render/animation.hpp"
-#include "igi/lighting/qmc_vpl_sampler.hpp"
+#include "common/importance_sampler.hpp"
 #include "igi/render/filter_choice.hpp"
 #include "igi/render/path_tracer.hpp"
 #include "igi/render/renderer.hpp"
@@ -77,9 +77,9 @@ template <class B>
 int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
   const igi::GltfMaterialShader surface(scene);
   const igi::StandardBrdf brdf;
-  const igi::QmcVplSampler sampler;
+  const igi::programs::ProgramVplSampler sampler(options.vpl_sampler);
   const igi::FilterChoice filter(options.filter);
-  igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::QmcVplSampler, igi::FilterChoice> renderer(
+  igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::programs::ProgramVplSampler, igi::FilterChoice> renderer(
       scene, options.settings, surface, brdf, sampler, filter);
   renderer.set_profiling(options.profile);
   const igi::Animation animation = igi::parse_animation(options.animate);
@@ -104,7 +104,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
   const std::string written = sequence ? names(0).string() + " .. " + names(options.frames - 1).string() + " (" +
                                              std::to_string(options.frames) + " frames)"
                                        : options.output;
-  StatsJson extra = sampling_statistics(options.settings, filter.chosen());
+  StatsJson extra = sampling_statistics(options.settings, filter.chosen(), sampler.chosen());
   extra.set("clamp", options.settings.clamp_distance)
       .set("compensation_rays", options.settings.compensation_rays)
       .set("shadow_roulette", double(options.settings.shadow_roulette))

@@ -24,7 +24,7 @@
 #include "igi/backends/reference/reference_backend.hpp"
 #include "igi/backends/saarcor/saarcor_backend.hpp"
 #include "igi/io/image_files.hpp"
-#include "igi/lighting/qmc_vpl_sampler.hpp"
+#include "common/importance_sampler.hpp"
 #include "igi/render/animation.hpp"
 #include "igi/render/filter_choice.hpp"
 #include "igi/render/renderer.hpp"
@@ -63,13 +63,16 @@ class ViewRenderer {
   virtual void set_light(int light, const igi::PunctualLight& value) = 0;
 };
 
-/// The Renderer over backend B with the glTF materials, the standard BRDF and QMC VPLs.
+/// The Renderer over backend B with the glTF materials, the standard BRDF and the chosen VPL sampler.
 template <class B>
 class TypedViewRenderer final : public ViewRenderer {
  public:
-  /// A renderer of `scene` (borrowed, must outlive it) with `settings` and the filter named `filter`.
-  TypedViewRenderer(igi::Scene& scene, const igi::RenderSettings& settings, const std::string& filter)
-      : surface_(scene), filter_(filter), renderer_(scene, settings, surface_, brdf_, sampler_, filter_) {}
+  /// A renderer of `scene` (borrowed, must outlive it) with `settings`, the filter named `filter`
+  /// and the VPL sampler named `vpl_sampler`.
+  TypedViewRenderer(igi::Scene& scene, const igi::RenderSettings& settings, const std::string& filter,
+                    const std::string& vpl_sampler)
+      : surface_(scene), sampler_(vpl_sampler), filter_(filter),
+        renderer_(scene, settings, surface_, brdf_, sampler_, filter_) {}
   igi::Frame render(const igi::Camera& camera, std::uint32_t index) override { return renderer_.render(camera, index); }
   void set_instance_transform(int instance, const glm::mat4& transform) override {
     renderer_.set_instance_transform(instance, transform);
@@ -80,17 +83,19 @@ class TypedViewRenderer final : public ViewRenderer {
   // The renderer borrows the policies: they are declared (so built) before it.
   igi::GltfMaterialShader surface_;
   igi::StandardBrdf brdf_;
-  igi::QmcVplSampler sampler_;
+  igi::programs::ProgramVplSampler sampler_;
   igi::FilterChoice filter_;
-  igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::QmcVplSampler, igi::FilterChoice> renderer_;
+  igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::programs::ProgramVplSampler, igi::FilterChoice> renderer_;
 };
 
 /// A renderer for `choice`.
 std::unique_ptr<ViewRenderer> make_renderer(const igi::programs::BackendChoice& choice, igi::Scene& scene,
-                                            const igi::RenderSettings& settings, const std::string& filter) {
+                                            const igi::RenderSettings& settings, const std::string& filter,
+                                            const std::string& vpl_sampler) {
   return igi::programs::with_backend_of(ViewBackends{}, choice.backend, choice.packet,
                                         [&]<class B>() -> std::unique_ptr<ViewRenderer> {
-                                          return std::make_unique<TypedViewRenderer<B>>(scene, settings, filter);
+                                          return std::make_unique<TypedViewRenderer<B>>(scene, settings, filter,
+                                                                                        vpl_sampler);
                                         });
 }
 
@@ -98,6 +103,7 @@ std::unique_ptr<ViewRenderer> make_renderer(const igi::programs::BackendChoice& 
 struct Options : igi::programs::SceneOptions {
   std::string size = "640x480";          ///< WIDTHxHEIGHT as typed.
   std::string filter = "discontinuity";  ///< Filter at the start (the F key cycles).
+  std::string vpl_sampler = "qmc";       ///< VPL sampler.
   std::string backend = "embree";        ///< Backend at the start (the B key cycles).
   std::string animate = "none";          ///< What moves from the first frame: none, light or camera.
   std::string screenshot;                ///< PNG of the last of --frames frames, or empty.
@@ -256,7 +262,7 @@ class Viewer {
   void rebuild() {
     igi::validate(settings_);
     renderer_.reset();
-    renderer_ = make_renderer(backend_choices[backend_], scene_, settings_, filter_choices[filter_]);
+    renderer_ = make_renderer(backend_choices[backend_], scene_, settings_, filter_choices[filter_], options_.vpl_sampler);
     std::printf("renderer: %s/%d M=%d S=%d N=%d %s\n", backend_choices[backend_].backend, backend_choices[backend_].packet,
                 settings_.vpls_per_pixel, settings_.interleave, settings_.antialiasing, filter_choices[filter_]);
     std::fflush(stdout);
@@ -431,6 +437,7 @@ int main(int argc, char** argv) {
   igi::programs::add_size_option(command_line, options.size);
   igi::programs::add_sampling_options(command_line, options.settings);
   igi::programs::add_filter_option(command_line, options.filter);
+  igi::programs::add_vpl_sampler_option(command_line, options.vpl_sampler);
   igi::programs::add_backend_options(command_line, options.backend, options.packet);
   igi::programs::add_threads_option(command_line, options.settings.threads, "worker threads (0: all cores)");
   igi::programs::add_seed_option(command_line, options.settings.seed);

@@ -10,6 +10,7 @@
 #include "common/program_options.hpp"
 #include "common/render_options.hpp"
 #include "common/stats_json.hpp"
+#include "igi/lighting/vpl_sampler_choice.hpp"
 #include "igi/scene/cornell.hpp"
 
 using igi::programs::ImageSize;
@@ -93,7 +94,7 @@ TEST_CASE("a run's shared stats fields are the scene, image, backend, output, an
   options.output = "out.pfm";
   const nlohmann::json run = nlohmann::json::parse(
       igi::programs::run_statistics(scene, options, "embree", 16, "light")
-          .update(igi::programs::sampling_statistics(options.settings, "box"))
+          .update(igi::programs::sampling_statistics(options.settings, "box", "importance"))
           .dump());
   CHECK(run["scene"] == scene.name);
   CHECK(run["triangles"] == scene.triangle_count());
@@ -107,6 +108,19 @@ TEST_CASE("a run's shared stats fields are the scene, image, backend, output, an
   CHECK(run["interleave"] == options.settings.interleave);
   CHECK(run["aa"] == options.settings.antialiasing);
   CHECK(run["filter"] == "box");
+  CHECK(run["vpl_sampler"] == "importance");
+}
+
+TEST_CASE("the built-in scenes are the Cornell box and the window room, and the VPL sampler option names a VplSamplerChoice", "[programs]") {
+  igi::programs::SceneOptions scene;
+  scene.builtin = "window";
+  CHECK(igi::programs::load_scene(scene).name == "window");
+  scene.builtin = "cornell";
+  CHECK(igi::programs::load_scene(scene).name == igi::cornell_box().name);
+  // The option's default and every choice it offers make a sampler; so its default is QMC's.
+  const igi::programs::RenderOptions options;
+  CHECK(std::string(igi::VplSamplerChoice(options.vpl_sampler).chosen()) == "qmc");
+  for (const char* name : {"qmc", "importance"}) CHECK(std::string(igi::VplSamplerChoice(name).chosen()) == name);
 }
 
 namespace {

@@ -117,11 +117,7 @@ class QmcVplSampler {
     // Delta lights (point, spot, directional) have one VPL whatever the sample, so instead of a
     // random share of the walks they light every set exactly: their direct light, hard shadows
     // included, is then the same in all S^2 sets and neither flickers nor shows the pattern.
-    std::vector<Vpl> exact;
-    for (std::size_t i = 0; i < lights.size(); ++i) {
-      const Vpl vpl = lights.emitter(i).sample_emission(0.5f, 0.5f, 0.5f, 0.5f).vpl;
-      if (vpl.kind != VplKind::surface) exact.push_back(vpl);
-    }
+    const std::vector<Vpl> exact = exact_vpls(lights);
     out.vpls_per_walk = pilot(scene, geometry, tracer, shader, brdf, settings, lights);
     // The walks fill what the exact VPLs leave of M; at least one walk carries the indirect light,
     // and at most 16 M walks are spent where particles rarely leave a VPL (mostly escaping).
@@ -156,12 +152,25 @@ class QmcVplSampler {
   }
 
  private:
-  static void check(const VplSettings& settings) {
-    if (settings.sets < 1) throw std::invalid_argument("QmcVplSampler: sets must be >= 1, got " + std::to_string(settings.sets));
+  friend class ImportanceVplSampler;  // proposes its candidates with these walks
+
+  /// The one VPL of each delta light of `lights` (point, spot, directional), in light order.
+  static std::vector<Vpl> exact_vpls(const LightSet& lights) {
+    std::vector<Vpl> exact;
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+      const Vpl vpl = lights.emitter(i).sample_emission(0.5f, 0.5f, 0.5f, 0.5f).vpl;
+      if (vpl.kind != VplKind::surface) exact.push_back(vpl);
+    }
+    return exact;
+  }
+
+  /// Throws std::invalid_argument naming the first setting out of range, the message led by `sampler`.
+  static void check(const VplSettings& settings, const std::string& sampler = "QmcVplSampler") {
+    if (settings.sets < 1) throw std::invalid_argument(sampler + ": sets must be >= 1, got " + std::to_string(settings.sets));
     if (settings.vpls_per_set < 1)
-      throw std::invalid_argument("QmcVplSampler: vpls_per_set must be >= 1, got " + std::to_string(settings.vpls_per_set));
+      throw std::invalid_argument(sampler + ": vpls_per_set must be >= 1, got " + std::to_string(settings.vpls_per_set));
     if (settings.max_bounces < 0)
-      throw std::invalid_argument("QmcVplSampler: max_bounces must be >= 0, got " + std::to_string(settings.max_bounces));
+      throw std::invalid_argument(sampler + ": max_bounces must be >= 0, got " + std::to_string(settings.max_bounces));
   }
 
   /// Halton dimension `dimension` of point `index`; beyond the 32 Halton dimensions a hash.

@@ -9,11 +9,18 @@
 #include <cstdint>
 
 #include "igi/lighting/vpl.hpp"
+#include "igi/scene/camera.hpp"
 #include "igi/scene/scene.hpp"
 #include "igi/shading/brdf_shader.hpp"
 #include "igi/shading/surface_shader.hpp"
 
 namespace igi {
+
+/// The view a frame is rendered from, for samplers that place VPLs where the camera looks.
+struct VplView {
+  PinholeProjection projection;  ///< The frame's primary rays (camera and image size).
+  float clamp_distance = 0.0f;   ///< The frame's resolved minimum VPL distance in 1/d^2.
+};
 
 /// Settings of one frame's VPL generation.
 struct VplSettings {
@@ -23,6 +30,7 @@ struct VplSettings {
   std::uint32_t seed = 0;        ///< User seed.
   int max_bounces = 32;          ///< Longest random walk (Russian roulette usually ends it first; RenderSettings::max_bounces says why 32).
   Bounds scene_bounds{};         ///< The scene's world bounds this frame (for lights at infinity); empty: the sampler computes them.
+  const VplView* view = nullptr; ///< The frame's view, borrowed for one generate call; samplers that do not look at the camera ignore it.
 };
 
 /// A VPL sampler: `generate(scene, tracer, surface, brdf, settings)` returns `settings.sets` sets

@@ -23,8 +23,9 @@
 namespace igi {
 
 /// The VPL settings of frame `index` rendered with `settings` in a scene of world `bounds`: S^2
-/// sets of M VPLs, the frame's seed and bounce limit.
-inline VplSettings vpl_settings_for(const RenderSettings& settings, std::uint32_t index, const Bounds& bounds = {}) {
+/// sets of M VPLs, the frame's seed and bounce limit, and the `view` (projection and clamp; borrowed) if given.
+inline VplSettings vpl_settings_for(const RenderSettings& settings, std::uint32_t index, const Bounds& bounds = {},
+                                    const VplView* view = nullptr) {
   VplSettings vpl_settings;
   vpl_settings.sets = settings.interleave * settings.interleave;
   vpl_settings.vpls_per_set = settings.vpls_per_pixel;
@@ -32,6 +33,7 @@ inline VplSettings vpl_settings_for(const RenderSettings& settings, std::uint32_
   vpl_settings.seed = settings.seed;
   vpl_settings.max_bounces = settings.max_bounces;
   vpl_settings.scene_bounds = bounds;
+  vpl_settings.view = view;
   return vpl_settings;
 }
 
@@ -57,17 +59,20 @@ struct FrameState {
   void prepare(const Scene& scene, const Bounds& bounds, const B& backend, const Surface& surface, const Brdf& brdf,
                const Sampler& sampler, const RenderSettings& frame_settings, const Camera& camera, std::uint32_t index,
                const ToneMapping& frame_tone_mapping) {
+    const PinholeProjection frame_projection(camera, frame_settings.width, frame_settings.height);
+    const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
+    const float frame_clamp = resolve_clamp(frame_settings, diagonal);
     {
       const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
-      vpls = sampler.generate(scene, backend, surface, brdf, vpl_settings_for(frame_settings, index, bounds));
+      const VplView view{.projection = frame_projection, .clamp_distance = frame_clamp};
+      vpls = sampler.generate(scene, backend, surface, brdf, vpl_settings_for(frame_settings, index, bounds, &view));
     }
     assign_vpl_radii(vpls);
     this->scene = &scene;
     geometry.update(scene);
-    projection.emplace(camera, frame_settings.width, frame_settings.height);
+    projection.emplace(frame_projection);
     settings = frame_settings;
-    const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
-    clamp_distance = resolve_clamp(frame_settings, diagonal);
+    clamp_distance = frame_clamp;
     ray_epsilon = ray_offset(bounds);
     tone_mapping = frame_tone_mapping;
     this->index = index;
