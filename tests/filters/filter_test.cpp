@@ -45,7 +45,8 @@ TileGBuffer wall(int w, int h) {
 }
 
 // Variance of the red channel over a set of values.
-double variance(const std::vector<glm::vec3>& values) {
+double variance(const Vec3Plane& planes) {
+  const std::vector<glm::vec3> values = planes.to_vector();
   double sum = 0.0, sum2 = 0.0;
   for (const glm::vec3& v : values) {
     sum += v.x;
@@ -55,10 +56,12 @@ double variance(const std::vector<glm::vec3>& values) {
   return sum2 / double(values.size()) - mean * mean;
 }
 
-std::vector<glm::vec3> interior(const TileGBuffer& g) {
-  std::vector<glm::vec3> out;
+Vec3Plane interior(const TileGBuffer& g) {
+  Vec3Plane out;
+  out.assign(std::size_t(g.width - 2 * g.border) * std::size_t(g.height - 2 * g.border));
+  std::size_t at = 0;
   for (int y = g.border; y < g.height - g.border; ++y)
-    for (int x = g.border; x < g.width - g.border; ++x) out.push_back(g.irradiance[g.index(x, y)]);
+    for (int x = g.border; x < g.width - g.border; ++x) out[at++] = g.irradiance[g.index(x, y)];
   return out;
 }
 
@@ -90,7 +93,7 @@ TEMPLATE_TEST_CASE("filters: the interleaving pattern on a flat wall is removed,
       // Every S x S window holds each set once, so every output is the exact pattern mean 2, up
       // to float rounding of a 9-term sum.
       CHECK(after < 1e-10);
-      for (const glm::vec3& v : out.irradiance) CHECK(v.x == Approx(2.0f).epsilon(1e-6));
+      for (const glm::vec3& v : out.irradiance.to_vector()) CHECK(v.x == Approx(2.0f).epsilon(1e-6));
     }
   }
 }
@@ -125,7 +128,7 @@ TEMPLATE_TEST_CASE("filters: on a depth step no irradiance crosses the edge, exc
   // them can be from near light alone; the far side is 5x brighter.
   int crossed = 0;
   for (int y = 0; y < out.height; ++y)
-    if (out.irradiance[std::size_t(y * out.width + (depth_step_edge - 2))].x > 1.9f) ++crossed;
+    if (out.irradiance.x[std::size_t(y * out.width + (depth_step_edge - 2))] > 1.9f) ++crossed;
   INFO(TestType::name());
   if constexpr (std::is_same_v<TestType, BoxFilter>) {
     // The box filter averages across any edge by design (it shows what the surface test of the
@@ -137,7 +140,7 @@ TEMPLATE_TEST_CASE("filters: on a depth step no irradiance crosses the edge, exc
     // less than the far side's darkest (5 x 0.2).
     for (int y = 0; y < out.height; ++y)
       for (int x = 0; x < out.width; ++x) {
-        const float value = out.irradiance[std::size_t(y * out.width + x)].x;
+        const float value = out.irradiance.x[std::size_t(y * out.width + x)];
         INFO("pixel " << x << ", " << y);
         if (x + g.border < depth_step_edge) {
           CHECK(value <= 1.9f);
@@ -179,8 +182,8 @@ TEMPLATE_TEST_CASE("filters: misses, broken normals and depths and huge values g
     REQUIRE(out.irradiance.size() == 81);
     for (std::size_t i = 0; i < out.irradiance.size(); ++i) {
       INFO("pixel " << i);
-      CHECK(std::isfinite(out.irradiance[i].x));
-      CHECK(std::isfinite(out.glossy[i].x));
+      CHECK(std::isfinite(out.irradiance.x[i]));
+      CHECK(std::isfinite(out.glossy.x[i]));
     }
   }
 }
@@ -212,7 +215,7 @@ TEMPLATE_TEST_CASE("filters: partial tiles at the image's corner keep their size
       const int high = s - 1 - s / 2;  // the window's reach right and down
       for (int y = 0; y < size.y; ++y)
         for (int x = 0; x < size.x; ++x) {
-          const float value = out.irradiance[std::size_t(y * size.x + x)].x;
+          const float value = out.irradiance.x[std::size_t(y * size.x + x)];
           INFO("pixel " << x << ", " << y);
           CHECK(std::isfinite(value));
           const bool window_inside = x + high < size.x && y + high < size.y;
@@ -237,7 +240,7 @@ TEMPLATE_TEST_CASE("filters: bad input is an error with a message", "[filters]",
   TileGBuffer g = wall(4, 4);
   FilteredTile out;
   CHECK_THROWS_WITH(TestType{}.apply(g, 0, out), Catch::Contains("interleave"));
-  g.depth.pop_back();
+  g.depth.assign(g.depth.size() - 1);
   CHECK_THROWS_WITH(TestType{}.apply(g, 3, out), Catch::Contains("width x height"));
   g = wall(4, 4);
   g.border = 4;
@@ -258,17 +261,17 @@ TEST_CASE("filters: the discontinuity filter averages exactly the same-side neig
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx)
           if ((bx + dx < depth_step_edge) == near) {
-            sum += g.irradiance[g.index(bx + dx, by + dy)].x;
+            sum += g.irradiance.x[g.index(bx + dx, by + dy)];
             ++count;
           }
       INFO("pixel " << x << ", " << y);
-      CHECK(out.irradiance[std::size_t(y * out.width + x)].x == Approx(sum / float(count)).epsilon(1e-6));
+      CHECK(out.irradiance.x[std::size_t(y * out.width + x)] == Approx(sum / float(count)).epsilon(1e-6));
     }
 }
 
 TEST_CASE("filters: creases, misses and depth tolerance", "[filters]") {
   TileGBuffer g = wall(5, 5);
-  for (std::size_t i = 0; i < g.irradiance.size(); ++i) g.irradiance[i] = glm::vec3(1.0f);
+  g.irradiance.assign(g.irradiance.size(), glm::vec3(1.0f));
   // Column 4 of the buffer is a wall at 90 degrees with irradiance 9; pixel (2, 2) missed.
   for (int y = 0; y < g.height; ++y) {
     g.normal[g.index(4, y)] = {1, 0, 0};
@@ -284,7 +287,7 @@ TEST_CASE("filters: creases, misses and depth tolerance", "[filters]") {
   g.irradiance[g.index(1, 1)] = glm::vec3(4.0f);
   FilteredTile out;
   DiscontinuityFilter{}.apply(g, 3, out);
-  const auto at = [&](int x, int y) { return out.irradiance[std::size_t((y - 1) * out.width + (x - 1))].x; };
+  const auto at = [&](int x, int y) { return out.irradiance.x[std::size_t((y - 1) * out.width + (x - 1))]; };
   CHECK(at(2, 2) == 0.0f);                    // a miss gets nothing
   CHECK(at(3, 3) == Approx(1.0f));            // ignores the crease column and the miss
   CHECK(at(2, 1) == Approx((4.0f + 7.0f) / 8.0f));  // 8 hits around, one of them 4 (the 3% deeper one)

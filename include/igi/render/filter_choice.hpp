@@ -35,6 +35,11 @@ class FilterChoice {
     return std::visit([](const auto& f) { return f.name(); }, filter_);
   }
 
+  /// Border the chosen filter reads around a tile.
+  int border(int interleave) const noexcept {
+    return std::visit([&](const auto& f) { return f.border(interleave); }, filter_);
+  }
+
   /// Runs the chosen filter.
   void apply(const TileGBuffer& gbuffer, int interleave, FilteredTile& out) const {
     std::visit([&](const auto& f) { f.apply(gbuffer, interleave, out); }, filter_);
