@@ -11,6 +11,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "igi/filters/atrous_filter.hpp"
 #include "igi/filters/tile_filters.hpp"
 #include "policy_lists.hpp"
 
@@ -34,11 +35,11 @@ void set_wall_pixel(TileGBuffer& g, std::size_t i) {
   g.albedo[i] = glm::vec3(0.5f);
 }
 
-// A G-buffer of w x h interior pixels plus a border of 1, all wall pixels.
-TileGBuffer wall(int w, int h) {
+// A G-buffer of w x h interior pixels plus a border of `border` pixels, all wall pixels.
+TileGBuffer wall(int w, int h, int border = 1) {
   TileGBuffer g;
-  g.border = 1;
-  g.resize(w + 2, h + 2);
+  g.border = border;
+  g.resize(w + 2 * border, h + 2 * border);
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) set_wall_pixel(g, g.index(x, y));
   return g;
@@ -75,7 +76,8 @@ TEMPLATE_TEST_CASE("filters: the interleaving pattern on a flat wall is removed,
                    "[filters]", IGI_ALL_FILTERS) {
   for (const int s : {2, 3}) {
     INFO(TestType::name() << ", S = " << s);
-    TileGBuffer g = wall(12, 12);
+    // With the border the pipeline renders for this filter, as in an image.
+    TileGBuffer g = wall(12, 12, TestType{}.border(s));
     for (int y = 0; y < g.height; ++y)
       for (int x = 0; x < g.width; ++x) g.irradiance[g.index(x, y)] = glm::vec3(2.0f * pattern(x, y, s));
     FilteredTile out;
@@ -195,7 +197,7 @@ TEMPLATE_TEST_CASE("filters: partial tiles at the image's corner keep their size
   // image (zeros: no hit). On a wall of constant irradiance 3 every filter must return 3 wherever
   // its window sees only pixels inside the image.
   for (const int s : {1, 2, 3, 4}) {
-    const int border = s / 2;  // as the pipeline's filter_border: the window reaches s/2 pixels out
+    const int border = TestType{}.border(s);  // what the pipeline renders around a tile for this filter
     for (const glm::ivec2 size : {glm::ivec2(1, 1), glm::ivec2(7, 3), glm::ivec2(2, 5), glm::ivec2(40, 1)}) {
       INFO(TestType::name() << ", S = " << s << ", interior " << size.x << " x " << size.y);
       TileGBuffer g;

@@ -184,6 +184,8 @@ class DiscontinuityFilter {
   static constexpr int border(int interleave) noexcept { return window_border(interleave); }
   /// The thresholds in use.
   const Settings& settings() const noexcept { return settings_; }
+  /// Cosine of max_normal_angle: the smallest cosine between normals admitted.
+  float cos_max_angle() const noexcept { return cos_max_angle_; }
   /// Filters the interior of `gbuffer` into `out`; throws std::invalid_argument on inconsistent input.
   void apply(const TileGBuffer& gbuffer, int interleave, FilteredTile& out) const {
     filter_detail::prepare_filter("DiscontinuityFilter", gbuffer, interleave, out);
