@@ -127,7 +127,6 @@ template <int W>
 template <int W>
 void window_mean_and_variance(const TileGBuffer& g, int interleave, const SameSurface<W>& accept,
                               const BufferRegion& region, AtrousStage& out) {
-  const int low = -(interleave / 2), high = interleave - 1 - interleave / 2;
   for (int cy = region.y0; cy < region.y1; ++cy)
     for (int cx = region.x0; cx < region.x1; cx += W) {
       const auto centre = std::ptrdiff_t(g.index(cx, cy));
@@ -136,24 +135,18 @@ void window_mean_and_variance(const TileGBuffer& g, int interleave, const SameSu
       const vfloat<W> centre_glossy = luminance(load<W>(g.glossy, centre));
       vec3<W> irradiance(glm::vec3(0.0f)), glossy(glm::vec3(0.0f));
       vfloat<W> count(0.0f), irradiance_sum(0.0f), irradiance_sum2(0.0f), glossy_sum(0.0f), glossy_sum2(0.0f);
-      for (int dy = low; dy <= high; ++dy) {
-        const int ny = cy + dy;
-        if (ny < 0 || ny >= g.height) continue;
-        for (int dx = low; dx <= high; ++dx) {
-          const std::ptrdiff_t neighbour = centre + std::ptrdiff_t(dy) * g.width + dx;
-          const vmask<W> take = columns_inside<W>(cx + dx, g.width) & accept(centre, neighbour);
-          if (none(take)) continue;
-          const vec3<W> e = load<W>(g.irradiance, neighbour), s = load<W>(g.glossy, neighbour);
-          irradiance.assign(irradiance + e, take);
-          glossy.assign(glossy + s, take);
-          count.assign(count + vfloat<W>(1.0f), take);
-          const vfloat<W> de = luminance(e) - centre_irradiance, ds = luminance(s) - centre_glossy;
-          irradiance_sum.assign(irradiance_sum + de, take);
-          irradiance_sum2.assign(irradiance_sum2 + de * de, take);
-          glossy_sum.assign(glossy_sum + ds, take);
-          glossy_sum2.assign(glossy_sum2 + ds * ds, take);
-        }
-      }
+      for_each_in_window<W>(g, interleave, cx, cy, accept,
+                            [&](std::ptrdiff_t neighbour, const vmask<W>& take) __attribute__((always_inline)) {
+                              const vec3<W> e = load<W>(g.irradiance, neighbour), s = load<W>(g.glossy, neighbour);
+                              irradiance.assign(irradiance + e, take);
+                              glossy.assign(glossy + s, take);
+                              count.assign(count + vfloat<W>(1.0f), take);
+                              const vfloat<W> de = luminance(e) - centre_irradiance, ds = luminance(s) - centre_glossy;
+                              irradiance_sum.assign(irradiance_sum + de, take);
+                              irradiance_sum2.assign(irradiance_sum2 + de * de, take);
+                              glossy_sum.assign(glossy_sum + ds, take);
+                              glossy_sum2.assign(glossy_sum2 + ds * ds, take);
+                            });
       store(average(irradiance, count), out.irradiance, centre);
       store(average(glossy, count), out.glossy, centre);
       variance_of_mean(irradiance_sum, irradiance_sum2, count).store(out.irradiance_variance.data() + centre);

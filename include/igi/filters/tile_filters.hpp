@@ -87,6 +87,26 @@ template <int W>
   return keep(vec3<W>(sum.x / count, sum.y / count, sum.z / count), some);
 }
 
+/// Calls `visit(neighbour, take)` for each offset of the S x S window around the W pixels of
+/// buffer row `cy` from column `cx` on, row by row: `neighbour` is the index of the offset's
+/// first pixel and `take` the lanes inside the buffer that `accept(centre, neighbour)` admits
+/// (offsets that admit none are skipped). Rows and columns outside the buffer are never admitted.
+template <int W, class Accept, class Visit>
+[[gnu::always_inline]] inline void for_each_in_window(const TileGBuffer& g, int interleave, int cx, int cy,
+                                                      const Accept& accept, Visit&& visit) {
+  const int low = -(interleave / 2), high = interleave - 1 - interleave / 2;
+  const auto centre = std::ptrdiff_t(g.index(cx, cy));
+  for (int dy = low; dy <= high; ++dy) {
+    const int ny = cy + dy;
+    if (ny < 0 || ny >= g.height) continue;
+    for (int dx = low; dx <= high; ++dx) {
+      const std::ptrdiff_t neighbour = centre + std::ptrdiff_t(dy) * g.width + dx;
+      const vmask<W> take = columns_inside<W>(cx + dx, g.width) & accept(centre, neighbour);
+      if (any(take)) visit(neighbour, take);
+    }
+  }
+}
+
 /// Averages the S x S window around each interior pixel over the neighbours
 /// `accept(centre, neighbour)` admits (a vmask<W> for the W pixels from index `centre` on
 /// against those from `neighbour` on). W neighbouring pixels of a row are filtered at once, each
@@ -94,31 +114,20 @@ template <int W>
 /// depend on W.
 template <int W, class Accept>
 void window_average(const TileGBuffer& g, int interleave, FilteredTile& out, const Accept& accept) {
-  const int low = -(interleave / 2), high = interleave - 1 - interleave / 2;
-  for (int y = 0; y < out.height; ++y) {
-    const int cy = y + g.border;
+  for (int y = 0; y < out.height; ++y)
     for (int x = 0; x < out.width; x += W) {
-      const int cx = x + g.border;
-      const auto centre = std::ptrdiff_t(g.index(cx, cy));
       vec3<W> irradiance(glm::vec3(0.0f)), glossy(glm::vec3(0.0f));
       vfloat<W> count(0.0f);
-      for (int dy = low; dy <= high; ++dy) {
-        const int ny = cy + dy;
-        if (ny < 0 || ny >= g.height) continue;
-        for (int dx = low; dx <= high; ++dx) {
-          const std::ptrdiff_t neighbour = centre + std::ptrdiff_t(dy) * g.width + dx;
-          const vmask<W> take = columns_inside<W>(cx + dx, g.width) & accept(centre, neighbour);
-          if (none(take)) continue;
-          irradiance.assign(irradiance + load<W>(g.irradiance, neighbour), take);
-          glossy.assign(glossy + load<W>(g.glossy, neighbour), take);
-          count.assign(count + vfloat<W>(1.0f), take);
-        }
-      }
+      for_each_in_window<W>(g, interleave, x + g.border, y + g.border, accept,
+                            [&](std::ptrdiff_t neighbour, const vmask<W>& take) __attribute__((always_inline)) {
+                              irradiance.assign(irradiance + load<W>(g.irradiance, neighbour), take);
+                              glossy.assign(glossy + load<W>(g.glossy, neighbour), take);
+                              count.assign(count + vfloat<W>(1.0f), take);
+                            });
       const auto at = std::ptrdiff_t(y) * out.width + x;
       store(average(irradiance, count), out.irradiance, at);
       store(average(glossy, count), out.glossy, at);
     }
-  }
 }
 
 /// Every neighbour inside the G-buffer.
@@ -220,10 +229,9 @@ class NoFilter {
  public:
   /// Policy name.
   static constexpr const char* name() noexcept { return "none"; }
-  /// Pixels read around a tile: none, but the window filters' border is rendered all the same,
-  /// so that switching filters changes no pixel outside the filter (the border's rays hit the
-  /// same pixels and the image stays as it was rendered before filters told their border).
-  static constexpr int border(int interleave) noexcept { return window_border(interleave); }
+  /// Pixels read around a tile: none (a pixel's rays give the same values whatever tile traces
+  /// them, so rendering no border changes no pixel, only saves the border's rays).
+  static constexpr int border(int /*interleave*/) noexcept { return 0; }
   /// Copies the interior of `gbuffer` into `out`; throws std::invalid_argument on inconsistent input.
   void apply(const TileGBuffer& gbuffer, int interleave, FilteredTile& out) const {
     filter_detail::prepare_filter("NoFilter", gbuffer, interleave, out);
