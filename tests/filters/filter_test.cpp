@@ -4,8 +4,10 @@
 // filter's exact averages, creases, misses and depth tolerance.
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
 #include <type_traits>
 #include <vector>
 
@@ -302,4 +304,64 @@ TEST_CASE("filters: creases, misses and depth tolerance", "[filters]") {
 
 TEST_CASE("filters: a negative discontinuity threshold is an error", "[filters]") {
   CHECK_THROWS_AS(DiscontinuityFilter(DiscontinuitySettings{.max_normal_angle = -1.0f}), std::invalid_argument);
+}
+
+namespace {
+
+/// A 24 x 24 wall with the border AtrousFilter needs at S = 3, each pixel's irradiance 2 times a
+/// pseudo-random factor in [0.5, 1.5): noise of every frequency, as VPL sets leave where they
+/// disagree.
+TileGBuffer noisy_wall() {
+  TileGBuffer g = wall(24, 24, AtrousFilter{}.border(3));
+  std::uint32_t state = 12345u;
+  for (std::size_t i = 0; i < g.irradiance.size(); ++i) {
+    state = state * 1664525u + 1013904223u;  // a linear congruential generator: fixed, portable noise
+    g.irradiance[i] = glm::vec3(2.0f * (0.5f + float(state >> 8) / float(1u << 24)));
+  }
+  return g;
+}
+
+}  // namespace
+
+TEST_CASE("filters: AtrousFilter without passes is the discontinuity buffer, bit for bit", "[filters]") {
+  TileGBuffer g = noisy_wall();
+  // A crease and a depth step so that the surface test matters.
+  for (int y = 0; y < g.height; ++y) {
+    g.normal[g.index(9, y)] = {1, 0, 0};
+    for (int x = 15; x < g.width; ++x) g.depth[g.index(x, y)] = 13.0f;
+  }
+  FilteredTile window, atrous;
+  DiscontinuityFilter{}.apply(g, 3, window);
+  AtrousFilter(AtrousSettings{.passes = 0}).apply(g, 3, atrous);
+  CHECK(atrous.irradiance.to_vector() == window.irradiance.to_vector());
+  CHECK(atrous.glossy.to_vector() == window.glossy.to_vector());
+}
+
+TEST_CASE("filters: AtrousFilter smooths the noise the S x S window leaves on a flat wall", "[filters]") {
+  const TileGBuffer g = noisy_wall();
+  FilteredTile window, atrous;
+  DiscontinuityFilter{}.apply(g, 3, window);
+  AtrousFilter{}.apply(g, 3, atrous);
+  const double before = variance(interior(g)), after_window = variance(window.irradiance),
+               after_atrous = variance(atrous.irradiance);
+  std::printf("noisy wall: irradiance variance %.4f, after the window %.5f, after atrous %.5f\n", before,
+              after_window, after_atrous);
+  // The window averages 9 pixels (variance / 9); three more passes, each averaging about 9
+  // correlated neighbours, must take off at least half of what is left.
+  CHECK(after_window < before / 5.0);
+  CHECK(after_atrous < after_window / 2.0);
+}
+
+TEST_CASE("filters: AtrousFilter settings out of range are an error", "[filters]") {
+  CHECK_THROWS_AS(AtrousFilter(AtrousSettings{.passes = -1}), std::invalid_argument);
+  CHECK_THROWS_AS(AtrousFilter(AtrousSettings{.passes = AtrousFilter::max_passes + 1}), std::invalid_argument);
+  CHECK_THROWS_AS(AtrousFilter(AtrousSettings{.luminance_sigma = 0.0f}), std::invalid_argument);
+  CHECK_THROWS_AS(AtrousFilter(AtrousSettings{.depth_sigma = std::numeric_limits<float>::quiet_NaN()}),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(AtrousFilter(AtrousSettings{.albedo_sigma = -1.0f}), std::invalid_argument);
+  CHECK_THROWS_AS(AtrousFilter(AtrousSettings{.window = {.max_normal_angle = -1.0f}}), std::invalid_argument);
+  // Its border grows with the passes' steps: S/2 + 1 + 2 + ... + 2^(passes-1).
+  CHECK(AtrousFilter(AtrousSettings{.passes = 0}).border(3) == 1);
+  CHECK(AtrousFilter(AtrousSettings{.passes = 3}).border(3) == 8);
+  CHECK(AtrousFilter(AtrousSettings{.passes = 2}).border(4) == 5);
 }
