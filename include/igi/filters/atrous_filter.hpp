@@ -35,16 +35,18 @@ namespace igi {
 /// Settings of AtrousFilter.
 struct AtrousSettings {
   /// À-trous passes after the S x S window, with steps 1, 2, ..., 2^(passes-1): each doubles the
-  /// footprint. Two reach 3 pixels beyond the window, three 7 (a 15-pixel footprint, about the
-  /// size of the blotches a few strong VPLs leave); every pass widens the border the pipeline must
-  /// render around each tile by its step, so more passes cost rays as well as filter time.
+  /// footprint and widens the border the pipeline renders around each tile by its step. Three:
+  /// on Cornell (320 x 240, 16 VPLs, against a path-traced reference) relMSE falls 0.0253 (the
+  /// window alone), 0.0239, 0.0222, 0.0202, 0.0185 for 0 to 4 passes while the border grows to
+  /// 1, 2, 4, 8, 16 pixels; three keep it at a fifth of the default 40-pixel tile.
   int passes = 3;
   /// The window's surface test (normals and depths admitted into the S x S mean), as the
   /// discontinuity buffer's: the mean is the discontinuity buffer's output.
   DiscontinuitySettings window{};
   /// 4: SVGF's sigma_l. A neighbour whose luminance differs from the centre's by k standard
   /// deviations of the centre's mean is weighted e^(-k/4): differences the sets' noise explains
-  /// (k of 1 or 2) are smoothed, an edge in the lighting (a shadow, k >> 4) is kept.
+  /// (k of 1 or 2) are smoothed, an edge in the lighting (a shadow, k >> 4) is kept. On Cornell
+  /// 2 gave 4% more error, 8 and 16 2-3% less by blurring shadow edges further.
   float luminance_sigma = 4.0f;
   /// 2% per pixel of distance: the depth difference on one surface grows with the distance
   /// between the pixels, by below 2% of the depth per pixel on a plane seen up to 70 degrees
