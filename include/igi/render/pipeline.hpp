@@ -386,17 +386,11 @@ class Pipeline {
         const std::size_t inner = std::size_t(y) * std::size_t(tile.width()) + std::size_t(x);
         glm::vec3 radiance = g.radiance[at];
         if (g.hit[at])
-          radiance += fused_multiply_add(g.albedo[at] * filtered.irradiance[inner], inv_pi, filtered.glossy[inner]);
+          radiance += g.albedo[at] * filtered.irradiance[inner] * inv_pi + filtered.glossy[inner];
         out.hdr[inner] = radiance;
         out.luminance.add(radiance);
         out.rgb8[inner] = quantize_srgb(frame.tone_mapping.apply(radiance));
       }
-  }
-
-  /// a * s + b with one rounding per component, as GCC contracts it on the AoS G-buffer (the
-  /// images are those of that layout; left to the compiler, loads from SoA planes come out unfused).
-  static glm::vec3 fused_multiply_add(const glm::vec3& a, float s, const glm::vec3& b) noexcept {
-    return {std::fma(a.x, s, b.x), std::fma(a.y, s, b.y), std::fma(a.z, s, b.z)};
   }
 
   /// Makes sure the stream vector has a level per depth.
