@@ -365,3 +365,21 @@ TEST_CASE("filters: AtrousFilter settings out of range are an error", "[filters]
   CHECK(AtrousFilter(AtrousSettings{.passes = 3}).border(3) == 8);
   CHECK(AtrousFilter(AtrousSettings{.passes = 2}).border(4) == 5);
 }
+
+TEST_CASE("filters: the G-buffer's planes read and write like arrays of vec3 and carry their padding", "[filters]") {
+  TileGBuffer g;
+  g.resize(5, 3);
+  REQUIRE(g.normal.size() == 15);
+  g.normal[g.index(4, 2)] = glm::vec3(1.0f, 2.0f, 3.0f);
+  g.normal[g.index(4, 2)] += glm::vec3(0.5f);
+  const TileGBuffer& read = g;
+  CHECK(read.normal[14] == glm::vec3(1.5f, 2.5f, 3.5f));
+  // Structure of arrays: one plane per component, pixel after pixel.
+  CHECK(g.normal.x.data()[14] == 1.5f);
+  CHECK(g.normal.z.data()[14] == 3.5f);
+  // A row read of the widest packet from the last pixel on, or ending at the first, stays in
+  // the plane's allocation (the padding is zeros after resize).
+  CHECK(g.depth.data()[14 + PixelPlane::padding] == 0.0f);
+  CHECK(g.depth.data()[-std::ptrdiff_t(PixelPlane::padding)] == 0.0f);
+  CHECK(g.normal.to_vector().size() == 15);
+}
