@@ -5,6 +5,7 @@
 
 #include <tuple>
 
+#include "igi/filters/atrous_filter.hpp"
 #include "igi/filters/tile_filters.hpp"
 #include "igi/shading/brdf_shaders.hpp"
 
@@ -13,7 +14,7 @@
 #define IGI_ALL_BRDF_SHADERS igi::LambertBrdf, igi::PhongBrdf, igi::MirrorBrdf, igi::GlassBrdf, igi::StandardBrdf
 
 /// Every filter of igi/filters/, as TEMPLATE_TEST_CASE's type arguments.
-#define IGI_ALL_FILTERS igi::DiscontinuityFilter, igi::BoxFilter, igi::NoFilter
+#define IGI_ALL_FILTERS igi::DiscontinuityFilter, igi::AtrousFilter, igi::BoxFilter, igi::NoFilter
 
 namespace igi::testing {
 

@@ -74,7 +74,9 @@ void add_sampling_options(CommandLine& command_line, RenderSettings& settings) {
 }
 
 void add_filter_option(CommandLine& command_line, std::string& filter) {
-  command_line.add("--filter", filter, "irradiance filter").choices({"discontinuity", "box", "none"}).show_default();
+  command_line.add("--filter", filter, "irradiance filter: discontinuity (the paper's S x S buffer), atrous (edge-avoiding a-trous wavelet passes after it: smoother, renders a wider border around each tile), box or none")
+      .choices({"discontinuity", "atrous", "box", "none"})
+      .show_default();
 }
 
 void add_vpl_sampler_option(CommandLine& command_line, std::string& sampler) {

@@ -52,7 +52,7 @@ Scene load_scene(const SceneOptions& scene);
 void add_size_option(CommandLine& command_line, std::string& size);
 /// Adds --vpls, --interleave and --aa: the IGI sampling settings M, S and N.
 void add_sampling_options(CommandLine& command_line, RenderSettings& settings);
-/// Adds --filter: discontinuity, box or none.
+/// Adds --filter: discontinuity, atrous, box or none.
 void add_filter_option(CommandLine& command_line, std::string& filter);
 /// Adds --vpl-sampler: qmc or importance (names of igi::VplSamplerChoice).
 void add_vpl_sampler_option(CommandLine& command_line, std::string& sampler);

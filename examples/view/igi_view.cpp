@@ -45,7 +45,7 @@ using ViewBackends = igi::programs::BackendList<igi::EmbreeBackend<16>, igi::Emb
 /// The cycle of the B key as names and widths.
 constexpr auto backend_choices = igi::programs::backend_choices(ViewBackends{});
 /// Filters of the F key.
-constexpr const char* filter_choices[] = {"discontinuity", "box", "none"};
+constexpr const char* filter_choices[] = {"discontinuity", "box", "none", "atrous"};
 /// Anti-aliasing factors of the N key.
 constexpr int antialiasing_choices[] = {1, 2, 4};
 /// Frames one turn of the animated light (or camera) takes: 4 s at 30 fps.

@@ -4,13 +4,16 @@
 // filter's exact averages, creases, misses and depth tolerance.
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
 #include <type_traits>
 #include <vector>
 
 #include <catch2/catch.hpp>
 
+#include "igi/filters/atrous_filter.hpp"
 #include "igi/filters/tile_filters.hpp"
 #include "policy_lists.hpp"
 
@@ -34,18 +37,19 @@ void set_wall_pixel(TileGBuffer& g, std::size_t i) {
   g.albedo[i] = glm::vec3(0.5f);
 }
 
-// A G-buffer of w x h interior pixels plus a border of 1, all wall pixels.
-TileGBuffer wall(int w, int h) {
+// A G-buffer of w x h interior pixels plus a border of `border` pixels, all wall pixels.
+TileGBuffer wall(int w, int h, int border = 1) {
   TileGBuffer g;
-  g.border = 1;
-  g.resize(w + 2, h + 2);
+  g.border = border;
+  g.resize(w + 2 * border, h + 2 * border);
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) set_wall_pixel(g, g.index(x, y));
   return g;
 }
 
 // Variance of the red channel over a set of values.
-double variance(const std::vector<glm::vec3>& values) {
+double variance(const Vec3Plane& planes) {
+  const std::vector<glm::vec3> values = planes.to_vector();
   double sum = 0.0, sum2 = 0.0;
   for (const glm::vec3& v : values) {
     sum += v.x;
@@ -55,10 +59,12 @@ double variance(const std::vector<glm::vec3>& values) {
   return sum2 / double(values.size()) - mean * mean;
 }
 
-std::vector<glm::vec3> interior(const TileGBuffer& g) {
-  std::vector<glm::vec3> out;
+Vec3Plane interior(const TileGBuffer& g) {
+  Vec3Plane out;
+  out.assign(std::size_t(g.width - 2 * g.border) * std::size_t(g.height - 2 * g.border));
+  std::size_t at = 0;
   for (int y = g.border; y < g.height - g.border; ++y)
-    for (int x = g.border; x < g.width - g.border; ++x) out.push_back(g.irradiance[g.index(x, y)]);
+    for (int x = g.border; x < g.width - g.border; ++x) out[at++] = g.irradiance[g.index(x, y)];
   return out;
 }
 
@@ -72,7 +78,8 @@ TEMPLATE_TEST_CASE("filters: the interleaving pattern on a flat wall is removed,
                    "[filters]", IGI_ALL_FILTERS) {
   for (const int s : {2, 3}) {
     INFO(TestType::name() << ", S = " << s);
-    TileGBuffer g = wall(12, 12);
+    // With the border the pipeline renders for this filter, as in an image.
+    TileGBuffer g = wall(12, 12, TestType{}.border(s));
     for (int y = 0; y < g.height; ++y)
       for (int x = 0; x < g.width; ++x) g.irradiance[g.index(x, y)] = glm::vec3(2.0f * pattern(x, y, s));
     FilteredTile out;
@@ -90,7 +97,7 @@ TEMPLATE_TEST_CASE("filters: the interleaving pattern on a flat wall is removed,
       // Every S x S window holds each set once, so every output is the exact pattern mean 2, up
       // to float rounding of a 9-term sum.
       CHECK(after < 1e-10);
-      for (const glm::vec3& v : out.irradiance) CHECK(v.x == Approx(2.0f).epsilon(1e-6));
+      for (const glm::vec3& v : out.irradiance.to_vector()) CHECK(v.x == Approx(2.0f).epsilon(1e-6));
     }
   }
 }
@@ -125,7 +132,7 @@ TEMPLATE_TEST_CASE("filters: on a depth step no irradiance crosses the edge, exc
   // them can be from near light alone; the far side is 5x brighter.
   int crossed = 0;
   for (int y = 0; y < out.height; ++y)
-    if (out.irradiance[std::size_t(y * out.width + (depth_step_edge - 2))].x > 1.9f) ++crossed;
+    if (out.irradiance.x[std::size_t(y * out.width + (depth_step_edge - 2))] > 1.9f) ++crossed;
   INFO(TestType::name());
   if constexpr (std::is_same_v<TestType, BoxFilter>) {
     // The box filter averages across any edge by design (it shows what the surface test of the
@@ -137,7 +144,7 @@ TEMPLATE_TEST_CASE("filters: on a depth step no irradiance crosses the edge, exc
     // less than the far side's darkest (5 x 0.2).
     for (int y = 0; y < out.height; ++y)
       for (int x = 0; x < out.width; ++x) {
-        const float value = out.irradiance[std::size_t(y * out.width + x)].x;
+        const float value = out.irradiance.x[std::size_t(y * out.width + x)];
         INFO("pixel " << x << ", " << y);
         if (x + g.border < depth_step_edge) {
           CHECK(value <= 1.9f);
@@ -179,8 +186,8 @@ TEMPLATE_TEST_CASE("filters: misses, broken normals and depths and huge values g
     REQUIRE(out.irradiance.size() == 81);
     for (std::size_t i = 0; i < out.irradiance.size(); ++i) {
       INFO("pixel " << i);
-      CHECK(std::isfinite(out.irradiance[i].x));
-      CHECK(std::isfinite(out.glossy[i].x));
+      CHECK(std::isfinite(out.irradiance.x[i]));
+      CHECK(std::isfinite(out.glossy.x[i]));
     }
   }
 }
@@ -192,7 +199,7 @@ TEMPLATE_TEST_CASE("filters: partial tiles at the image's corner keep their size
   // image (zeros: no hit). On a wall of constant irradiance 3 every filter must return 3 wherever
   // its window sees only pixels inside the image.
   for (const int s : {1, 2, 3, 4}) {
-    const int border = s / 2;  // as the pipeline's filter_border: the window reaches s/2 pixels out
+    const int border = TestType{}.border(s);  // what the pipeline renders around a tile for this filter
     for (const glm::ivec2 size : {glm::ivec2(1, 1), glm::ivec2(7, 3), glm::ivec2(2, 5), glm::ivec2(40, 1)}) {
       INFO(TestType::name() << ", S = " << s << ", interior " << size.x << " x " << size.y);
       TileGBuffer g;
@@ -212,7 +219,7 @@ TEMPLATE_TEST_CASE("filters: partial tiles at the image's corner keep their size
       const int high = s - 1 - s / 2;  // the window's reach right and down
       for (int y = 0; y < size.y; ++y)
         for (int x = 0; x < size.x; ++x) {
-          const float value = out.irradiance[std::size_t(y * size.x + x)].x;
+          const float value = out.irradiance.x[std::size_t(y * size.x + x)];
           INFO("pixel " << x << ", " << y);
           CHECK(std::isfinite(value));
           const bool window_inside = x + high < size.x && y + high < size.y;
@@ -237,7 +244,7 @@ TEMPLATE_TEST_CASE("filters: bad input is an error with a message", "[filters]",
   TileGBuffer g = wall(4, 4);
   FilteredTile out;
   CHECK_THROWS_WITH(TestType{}.apply(g, 0, out), Catch::Contains("interleave"));
-  g.depth.pop_back();
+  g.depth.assign(g.depth.size() - 1);
   CHECK_THROWS_WITH(TestType{}.apply(g, 3, out), Catch::Contains("width x height"));
   g = wall(4, 4);
   g.border = 4;
@@ -258,17 +265,17 @@ TEST_CASE("filters: the discontinuity filter averages exactly the same-side neig
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx)
           if ((bx + dx < depth_step_edge) == near) {
-            sum += g.irradiance[g.index(bx + dx, by + dy)].x;
+            sum += g.irradiance.x[g.index(bx + dx, by + dy)];
             ++count;
           }
       INFO("pixel " << x << ", " << y);
-      CHECK(out.irradiance[std::size_t(y * out.width + x)].x == Approx(sum / float(count)).epsilon(1e-6));
+      CHECK(out.irradiance.x[std::size_t(y * out.width + x)] == Approx(sum / float(count)).epsilon(1e-6));
     }
 }
 
 TEST_CASE("filters: creases, misses and depth tolerance", "[filters]") {
   TileGBuffer g = wall(5, 5);
-  for (std::size_t i = 0; i < g.irradiance.size(); ++i) g.irradiance[i] = glm::vec3(1.0f);
+  g.irradiance.assign(g.irradiance.size(), glm::vec3(1.0f));
   // Column 4 of the buffer is a wall at 90 degrees with irradiance 9; pixel (2, 2) missed.
   for (int y = 0; y < g.height; ++y) {
     g.normal[g.index(4, y)] = {1, 0, 0};
@@ -284,7 +291,7 @@ TEST_CASE("filters: creases, misses and depth tolerance", "[filters]") {
   g.irradiance[g.index(1, 1)] = glm::vec3(4.0f);
   FilteredTile out;
   DiscontinuityFilter{}.apply(g, 3, out);
-  const auto at = [&](int x, int y) { return out.irradiance[std::size_t((y - 1) * out.width + (x - 1))].x; };
+  const auto at = [&](int x, int y) { return out.irradiance.x[std::size_t((y - 1) * out.width + (x - 1))]; };
   CHECK(at(2, 2) == 0.0f);                    // a miss gets nothing
   CHECK(at(3, 3) == Approx(1.0f));            // ignores the crease column and the miss
   CHECK(at(2, 1) == Approx((4.0f + 7.0f) / 8.0f));  // 8 hits around, one of them 4 (the 3% deeper one)
@@ -297,4 +304,82 @@ TEST_CASE("filters: creases, misses and depth tolerance", "[filters]") {
 
 TEST_CASE("filters: a negative discontinuity threshold is an error", "[filters]") {
   CHECK_THROWS_AS(DiscontinuityFilter(DiscontinuitySettings{.max_normal_angle = -1.0f}), std::invalid_argument);
+}
+
+namespace {
+
+/// A 24 x 24 wall with the border AtrousFilter needs at S = 3, each pixel's irradiance 2 times a
+/// pseudo-random factor in [0.5, 1.5): noise of every frequency, as VPL sets leave where they
+/// disagree.
+TileGBuffer noisy_wall() {
+  TileGBuffer g = wall(24, 24, AtrousFilter{}.border(3));
+  std::uint32_t state = 12345u;
+  for (std::size_t i = 0; i < g.irradiance.size(); ++i) {
+    state = state * 1664525u + 1013904223u;  // a linear congruential generator: fixed, portable noise
+    g.irradiance[i] = glm::vec3(2.0f * (0.5f + float(state >> 8) / float(1u << 24)));
+  }
+  return g;
+}
+
+}  // namespace
+
+TEST_CASE("filters: AtrousFilter without passes is the discontinuity buffer, bit for bit", "[filters]") {
+  TileGBuffer g = noisy_wall();
+  // A crease and a depth step so that the surface test matters.
+  for (int y = 0; y < g.height; ++y) {
+    g.normal[g.index(9, y)] = {1, 0, 0};
+    for (int x = 15; x < g.width; ++x) g.depth[g.index(x, y)] = 13.0f;
+  }
+  FilteredTile window, atrous;
+  DiscontinuityFilter{}.apply(g, 3, window);
+  AtrousFilter(AtrousSettings{.passes = 0}).apply(g, 3, atrous);
+  CHECK(atrous.irradiance.to_vector() == window.irradiance.to_vector());
+  CHECK(atrous.glossy.to_vector() == window.glossy.to_vector());
+}
+
+TEST_CASE("filters: AtrousFilter smooths the noise the S x S window leaves on a flat wall", "[filters]") {
+  const TileGBuffer g = noisy_wall();
+  FilteredTile window, atrous;
+  DiscontinuityFilter{}.apply(g, 3, window);
+  AtrousFilter{}.apply(g, 3, atrous);
+  const double before = variance(interior(g)), after_window = variance(window.irradiance),
+               after_atrous = variance(atrous.irradiance);
+  std::printf("noisy wall: irradiance variance %.4f, after the window %.5f, after atrous %.5f\n", before,
+              after_window, after_atrous);
+  // The window averages 9 pixels (variance / 9); three more passes, each averaging about 9
+  // correlated neighbours, must take off at least half of what is left.
+  CHECK(after_window < before / 5.0);
+  CHECK(after_atrous < after_window / 2.0);
+}
+
+TEST_CASE("filters: AtrousFilter settings out of range are an error", "[filters]") {
+  CHECK_THROWS_AS(AtrousFilter(AtrousSettings{.passes = -1}), std::invalid_argument);
+  CHECK_THROWS_AS(AtrousFilter(AtrousSettings{.passes = AtrousFilter::max_passes + 1}), std::invalid_argument);
+  CHECK_THROWS_AS(AtrousFilter(AtrousSettings{.luminance_sigma = 0.0f}), std::invalid_argument);
+  CHECK_THROWS_AS(AtrousFilter(AtrousSettings{.depth_sigma = std::numeric_limits<float>::quiet_NaN()}),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(AtrousFilter(AtrousSettings{.albedo_sigma = -1.0f}), std::invalid_argument);
+  CHECK_THROWS_AS(AtrousFilter(AtrousSettings{.window = {.max_normal_angle = -1.0f}}), std::invalid_argument);
+  // Its border grows with the passes' steps: S/2 + 1 + 2 + ... + 2^(passes-1).
+  CHECK(AtrousFilter(AtrousSettings{.passes = 0}).border(3) == 1);
+  CHECK(AtrousFilter(AtrousSettings{.passes = 3}).border(3) == 8);
+  CHECK(AtrousFilter(AtrousSettings{.passes = 2}).border(4) == 5);
+}
+
+TEST_CASE("filters: the G-buffer's planes read and write like arrays of vec3 and carry their padding", "[filters]") {
+  TileGBuffer g;
+  g.resize(5, 3);
+  REQUIRE(g.normal.size() == 15);
+  g.normal[g.index(4, 2)] = glm::vec3(1.0f, 2.0f, 3.0f);
+  g.normal[g.index(4, 2)] += glm::vec3(0.5f);
+  const TileGBuffer& read = g;
+  CHECK(read.normal[14] == glm::vec3(1.5f, 2.5f, 3.5f));
+  // Structure of arrays: one plane per component, pixel after pixel.
+  CHECK(g.normal.x.data()[14] == 1.5f);
+  CHECK(g.normal.z.data()[14] == 3.5f);
+  // A row read of the widest packet from the last pixel on, or ending at the first, stays in
+  // the plane's allocation (the padding is zeros after resize).
+  CHECK(g.depth.data()[14 + PixelPlane::padding] == 0.0f);
+  CHECK(g.depth.data()[-std::ptrdiff_t(PixelPlane::padding)] == 0.0f);
+  CHECK(g.normal.to_vector().size() == 15);
 }

@@ -64,7 +64,7 @@ TEMPLATE_TEST_CASE("white furnace: a closed uniform box has radiance Le / (1 - a
                               << antialiasing);
         REQUIRE(all_finite(frame));
         // The box filter counts the pixels outside the image as dark by design (it takes no
-        // surface test), so the frame of filter_border(S) pixels along the image's edge is left
+        // surface test), so the frame of S/2 pixels (its window's reach) along the image's edge is left
         // out for every filter.
         const double mean = inner_mean(frame, interleave / 2);
         std::printf("furnace %s / %s, S=%d, N=%d: mean %.4f (expected %.4f)\n", TestType::name(), Filter::name(),

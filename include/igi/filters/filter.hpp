@@ -2,8 +2,14 @@
 /// \file
 /// The filter policy and the tile G-buffer it reads. A filter reconstructs irradiance (and the
 /// glossy VPL radiance) over a tile whose G-buffer carries a border of `border` pixels on each side.
+///
+/// The G-buffer is a structure of arrays: every channel is one padded float plane per component,
+/// so that W neighbouring pixels of a row load as one `vfloat<W>`. Writers and readers that work
+/// pixel by pixel index it like an array of `glm::vec3` (`g.normal[i] = n`, `glm::vec3 a = g.albedo[i]`).
 
+#include <algorithm>
 #include <concepts>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -11,50 +17,141 @@
 
 namespace igi {
 
+/// One float per pixel, row-major, with `padding` spare floats before the first pixel and after
+/// the last: a SIMD row read that starts up to `padding` pixels before the plane or ends up to
+/// `padding` pixels after it stays in memory (its lanes outside the plane are masked by the reader).
+class PixelPlane {
+ public:
+  /// Spare floats on each side: the widest packet (64 lanes) or the farthest filter tap past a
+  /// row's end, whichever a reader needs, fits in it.
+  static constexpr std::size_t padding = 64;
+
+  /// Sets `pixels` entries (and the padding) to `value`.
+  void assign(std::size_t pixels, float value = 0.0f) {
+    storage_.assign(pixels + 2 * padding, value);
+    size_ = pixels;
+  }
+  /// Number of pixels.
+  std::size_t size() const noexcept { return size_; }
+  /// Pixel 0 (padding lies before it and after pixel size()-1).
+  float* data() noexcept { return storage_.data() + padding; }
+  /// Pixel 0, read-only.
+  const float* data() const noexcept { return storage_.data() + padding; }
+  /// Pixel `i`.
+  float& operator[](std::size_t i) noexcept { return storage_[i + padding]; }
+  /// Pixel `i`, read-only.
+  float operator[](std::size_t i) const noexcept { return storage_[i + padding]; }
+
+ private:
+  std::vector<float> storage_;
+  std::size_t size_ = 0;
+};
+
+/// A colour or direction per pixel as three planes (x, y, z): structure of arrays.
+class Vec3Plane {
+ public:
+  /// Pixel `i` of a Vec3Plane as an assignable glm::vec3.
+  class Reference {
+   public:
+    /// Pixel `i` of `planes`.
+    Reference(Vec3Plane& planes, std::size_t i) noexcept : planes_(&planes), i_(i) {}
+    /// Its value.
+    operator glm::vec3() const noexcept { return {planes_->x[i_], planes_->y[i_], planes_->z[i_]}; }  // NOLINT: reads as a vec3
+    /// Sets it.
+    Reference& operator=(const glm::vec3& v) noexcept {
+      planes_->x[i_] = v.x;
+      planes_->y[i_] = v.y;
+      planes_->z[i_] = v.z;
+      return *this;
+    }
+    /// Adds `v` to it, component by component (as glm::vec3's +=).
+    Reference& operator+=(const glm::vec3& v) noexcept {
+      planes_->x[i_] += v.x;
+      planes_->y[i_] += v.y;
+      planes_->z[i_] += v.z;
+      return *this;
+    }
+
+   private:
+    Vec3Plane* planes_;
+    std::size_t i_;
+  };
+
+  PixelPlane x;  ///< First components.
+  PixelPlane y;  ///< Second components.
+  PixelPlane z;  ///< Third components.
+
+  /// Sets `pixels` entries to `value`.
+  void assign(std::size_t pixels, const glm::vec3& value = glm::vec3(0.0f)) {
+    x.assign(pixels, value.x);
+    y.assign(pixels, value.y);
+    z.assign(pixels, value.z);
+  }
+  /// Number of pixels (that of its smallest plane, so a plane resized alone shows).
+  std::size_t size() const noexcept { return std::min(x.size(), std::min(y.size(), z.size())); }
+  /// Pixel `i`.
+  glm::vec3 operator[](std::size_t i) const noexcept { return {x[i], y[i], z[i]}; }
+  /// Pixel `i`, assignable.
+  Reference operator[](std::size_t i) noexcept { return {*this, i}; }
+  /// All pixels as glm::vec3 (for tests and reports).
+  std::vector<glm::vec3> to_vector() const {
+    std::vector<glm::vec3> out(size());
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = (*this)[i];
+    return out;
+  }
+};
+
 /// Per-pixel buffers of one tile plus its border, row-major, `width x height` including border.
 /// With anti-aliasing each entry is the average over the pixel's primary rays.
 struct TileGBuffer {
-  int width = 0;                        ///< Pixels per row, border included.
-  int height = 0;                       ///< Rows, border included.
-  int border = 1;                       ///< Border pixels on each side (what the filter may read).
-  std::vector<glm::vec3> irradiance;    ///< Unfiltered VPL irradiance (before albedo/pi).
-  std::vector<glm::vec3> glossy;        ///< Unfiltered glossy VPL radiance.
-  std::vector<glm::vec3> albedo;        ///< Diffuse albedo of the first hit (after texturing).
-  std::vector<glm::vec3> normal;        ///< Unit shading normal of the first hit; zero on a miss.
-  std::vector<float> depth;             ///< Distance of the first hit; 0 on a miss.
-  std::vector<glm::vec3> radiance;      ///< Unfiltered rest: emission and mirror/glass paths.
-  std::vector<std::uint8_t> hit;        ///< 1 where the first ray hit geometry.
+  int width = 0;          ///< Pixels per row, border included.
+  int height = 0;         ///< Rows, border included.
+  int border = 1;         ///< Border pixels on each side (what the filter may read).
+  Vec3Plane irradiance;   ///< Unfiltered VPL irradiance (before albedo/pi).
+  Vec3Plane glossy;       ///< Unfiltered glossy VPL radiance.
+  Vec3Plane albedo;       ///< Diffuse albedo of the first hit (after texturing).
+  Vec3Plane normal;       ///< Unit shading normal of the first hit; zero on a miss.
+  PixelPlane depth;       ///< Distance of the first hit; 0 on a miss.
+  Vec3Plane radiance;     ///< Unfiltered rest: emission and mirror/glass paths.
+  PixelPlane hit;         ///< 1 where the first ray hit geometry, else 0 (floats, so a row loads as a SIMD mask).
 
   /// Sets every buffer to `w x h` zeros.
   void resize(int w, int h) {
     width = w;
     height = h;
     const std::size_t n = std::size_t(w) * std::size_t(h);
-    irradiance.assign(n, glm::vec3(0.0f));
-    glossy.assign(n, glm::vec3(0.0f));
-    albedo.assign(n, glm::vec3(0.0f));
-    normal.assign(n, glm::vec3(0.0f));
-    depth.assign(n, 0.0f);
-    radiance.assign(n, glm::vec3(0.0f));
-    hit.assign(n, 0);
+    irradiance.assign(n);
+    glossy.assign(n);
+    albedo.assign(n);
+    normal.assign(n);
+    depth.assign(n);
+    radiance.assign(n);
+    hit.assign(n);
   }
   /// Index of pixel (x, y) in the buffers.
   std::size_t index(int x, int y) const noexcept { return std::size_t(y) * std::size_t(width) + std::size_t(x); }
 };
 
-/// Filtered irradiance and glossy radiance of a tile's interior (border excluded).
+/// Filtered irradiance and glossy radiance of a tile's interior (border excluded), row-major.
 struct FilteredTile {
-  int width = 0;                      ///< Interior pixels per row.
-  int height = 0;                     ///< Interior rows.
-  std::vector<glm::vec3> irradiance;  ///< Filtered irradiance.
-  std::vector<glm::vec3> glossy;      ///< Filtered glossy radiance.
+  int width = 0;         ///< Interior pixels per row.
+  int height = 0;        ///< Interior rows.
+  Vec3Plane irradiance;  ///< Filtered irradiance.
+  Vec3Plane glossy;      ///< Filtered glossy radiance.
 };
 
+/// Border of the S x S window around a pixel: offsets -(S/2) .. S-1-(S/2), so S/2 pixels (1 for
+/// the paper's 3 x 3). What the window filters need rendered around a tile.
+inline constexpr int window_border(int interleave) noexcept { return interleave / 2; }
+
 /// A filter reconstructs the interior of a tile from its G-buffer. `interleave` is S: the window
-/// that removes the interleaving pattern is S x S.
+/// that removes the interleaving pattern is S x S. `border(S)` is how many pixels around a tile
+/// the filter reads: the pipeline renders that many, and with them the filtered image does not
+/// depend on the tile size.
 template <class F>
 concept Filter = requires(const F& filter, const TileGBuffer& gbuffer, int interleave, FilteredTile& out) {
   { F::name() } -> std::convertible_to<const char*>;
+  { filter.border(interleave) } -> std::convertible_to<int>;
   { filter.apply(gbuffer, interleave, out) } -> std::same_as<void>;
 };
 

@@ -29,9 +29,6 @@ inline std::vector<PixelRect> make_tiles(int width, int height, int tile_size) {
   return tiles;
 }
 
-/// Border the filter reads around a tile: half the S x S window (1 pixel for the paper's 3 x 3).
-inline int filter_border(int interleave) noexcept { return interleave / 2; }
-
 /// The interleaving set of pixel (x, y): sets are numbered row-major over the S x S pattern, and
 /// the pattern is anchored at the image origin so it continues seamlessly across tiles.
 inline int interleaving_set(int x, int y, int interleave) noexcept {

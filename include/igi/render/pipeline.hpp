@@ -172,7 +172,7 @@ class Pipeline {
   /// Renders `tile` of the frame into `out`.
   void render_tile(const FrameState& frame, const PixelRect& tile, Workspace& work, TileResult& out) const {
     const RenderSettings& s = frame.settings;
-    const int border = filter_border(s.interleave);
+    const int border = filter_->border(s.interleave);
     const PixelRect extended{tile.x0 - border, tile.y0 - border, tile.x1 + border, tile.y1 + border};
     // Only pixels inside the image are rendered; outside ones stay "no hit" and the filter skips them.
     const PixelRect rendered{std::max(extended.x0, 0), std::max(extended.y0, 0), std::min(extended.x1, s.width),
@@ -515,6 +515,7 @@ class Pipeline {
     }
     const StageTimer timer(work.timing(&StageTimes::compose));
     const TileGBuffer& g = work.gbuffer;
+    const FilteredTile& filtered = work.filtered;
     out.rect = tile;
     const std::size_t n = std::size_t(tile.width()) * std::size_t(tile.height());
     out.hdr.resize(n);
@@ -527,8 +528,7 @@ class Pipeline {
         const std::size_t inner = std::size_t(y) * std::size_t(tile.width()) + std::size_t(x);
         glm::vec3 radiance = g.radiance[at];
         if (g.hit[at])
-          radiance += g.albedo[at] * work.filtered.irradiance[inner] * inv_pi +
-                      work.filtered.glossy[inner];
+          radiance += g.albedo[at] * filtered.irradiance[inner] * inv_pi + filtered.glossy[inner];
         out.hdr[inner] = radiance;
         out.luminance.add(radiance);
         out.rgb8[inner] = quantize_srgb(frame.tone_mapping.apply(radiance));
