@@ -311,8 +311,8 @@ class Pipeline {
   /// computed first; on lanes where it is below `shadow_roulette` x what the pixel gathered so far
   /// (both as the sum of irradiance and pi x glossy radiance over the channels) the shadow ray is
   /// traced with probability p = light / (shadow_roulette x gathered) and the light, if visible,
-  /// weighted 1/p. The random number is hashed from the pixel, the VPL, the sub-sample's VPL
-  /// index and the frame, so every packet width, tile, thread and process makes the same choice.
+  /// weighted 1/p. The random number is hashed from the pixel, the VPL's index in its set, the
+  /// frame index and the seed, so every packet width, tile, thread and process makes the same choice.
   void play_roulette(const FrameState& frame, std::uint32_t vpl_index, StreamPacket& packet, const VplGeometry<W>& geometry,
                      const glm::vec3& intensity, RayPacket<W>& shadow, Workspace& work, RayCounts& counts) const {
     VplAccumulator<W> light;
