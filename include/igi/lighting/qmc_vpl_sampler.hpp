@@ -32,9 +32,10 @@
 /// (exponent at most `wide_lobe_shininess`, e.g. glTF's metallic with roughness 1, Sponza's
 /// curtains) reflects particles as a diffuse surface would: its VPL and its diffuse continuation
 /// count albedo plus the lobe's reflectance towards the continuation's direction (the BRDF's
-/// f x cos / pdf, an unbiased estimate of the lobe's directional albedo, at most 1). Sharper glossy lobes do not scatter particles
-/// (their energy ends the walk: the light a polished surface reflects onto others is missing),
-/// and an alpha cut-out lets the particle through unchanged.
+/// f x cos / pdf, an unbiased estimate of the lobe's directional albedo, at most 1). Sharper
+/// glossy lobes do not scatter particles (their energy ends the walk: the light a polished
+/// surface reflects onto others is missing), and an alpha cut-out lets the particle through
+/// unchanged.
 
 #include <algorithm>
 #include <cmath>

@@ -327,10 +327,7 @@ class Pipeline {
     vmask<W> traced = geometry.reaches;
     vfloat<W> boost(1.0f);
     if (any(faint)) {
-      const PixelPacket<W>& pixels = work.pixels[std::size_t(packet.pixels)];
-      const vuint<W> pixel([&](int i) {
-        return std::uint32_t(pixels.y[i]) * std::uint32_t(frame.settings.width) + std::uint32_t(pixels.x[i]);
-      });
+      const vuint<W> pixel = pixel_indices(work.pixels[std::size_t(packet.pixels)], frame.settings.width);
       const std::uint32_t key = hash(hash(frame.index, frame.settings.seed), vpl_index);
       const vfloat<W> u = to_unit_float(hash(hash(pixel) ^ vuint<W>(key)));
       // On faint lanes gain < threshold, so the probability is below 1 (and above 0 where light arrives).
@@ -369,9 +366,9 @@ class Pipeline {
     auto& gather = work.gather;
     gather.clear();
     if (rays <= 0 || !(reach > 0.0f)) return;
-    std::uint64_t gather_time = 0;
     {
-      const StageTimer timer(work.profile ? &gather_time : nullptr);
+      // Only the making and the adding count as `compensate`; tracing, shading and VPLs go to their own stages.
+      const StageTimer timer(work.timing(&StageTimes::compensate));
       const std::uint32_t frame_key = hash(hash(frame.index, frame.settings.seed), std::uint32_t(k));
       for (int g = 0; g < rays; ++g)
         for (std::size_t p = 0; p < level.size(); ++p) {
@@ -381,12 +378,11 @@ class Pipeline {
           child.active = packet.hit & packet.parameters.opaque;
           if (none(child.active)) continue;
           const vec3<W> normal = shading_frame_normal(packet.surface, packet.parameters);
-          const PixelPacket<W>& pixels = work.pixels[std::size_t(packet.pixels)];
+          const vuint<W> pixel = pixel_indices(work.pixels[std::size_t(packet.pixels)], frame.settings.width);
           vec3<W> direction;
           for (int i = 0; i < W; ++i) {
             if (!child.active[i]) continue;
-            const std::uint32_t pixel = std::uint32_t(pixels.y[i]) * std::uint32_t(frame.settings.width) + std::uint32_t(pixels.x[i]);
-            Rng rng(hash(hash(frame_key, pixel), std::uint32_t(g)));
+            Rng rng(hash(hash(frame_key, pixel[i]), std::uint32_t(g)));
             const float u1 = rng.next(), u2 = rng.next();
             direction.set(i, sample_cosine_hemisphere(normal[i], u1, u2));
           }
@@ -410,7 +406,7 @@ class Pipeline {
       gather_vpls(frame, set, std::size_t(k) + std::size_t(g) * subsets, subsets * std::size_t(rays),
                   float(subsets) * float(rays), all.subspan(std::size_t(g) * level.size(), level.size()), work, counts);
     {
-      const StageTimer timer(work.profile ? &gather_time : nullptr);
+      const StageTimer timer(work.timing(&StageTimes::compensate));
       const float inverse_reach2 = 1.0f / (reach * reach);
       for (int g = 0; g < rays; ++g)
         for (std::size_t p = 0; p < level.size(); ++p) {
@@ -424,8 +420,6 @@ class Pipeline {
           level[p].light.irradiance += keep(radiance * share, ray.hit);
         }
     }
-    // gather_time holds only the making and the adding; tracing, shading and VPLs went to their own stages.
-    if (work.profile) work.stages.compensate += gather_time;
   }
 
   /// Step 3 for one packet: hit points, BRDF parameters, and rays continued through alpha
@@ -533,6 +527,14 @@ class Pipeline {
         out.luminance.add(radiance);
         out.rgb8[inner] = quantize_srgb(frame.tone_mapping.apply(radiance));
       }
+  }
+
+  /// Row-major image index y x width + x of each lane's pixel, 0 on lanes past the packet's count:
+  /// what the roulette's and the gather rays' random numbers are hashed from.
+  static vuint<W> pixel_indices(const PixelPacket<W>& pixels, int width) noexcept {
+    return vuint<W>([&](int i) {
+      return i < pixels.count ? std::uint32_t(pixels.y[i]) * std::uint32_t(width) + std::uint32_t(pixels.x[i]) : 0u;
+    });
   }
 
   /// Makes sure the stream vector has a level per depth.
