@@ -6,6 +6,7 @@ Cornell box, the built-in window room (sun and sky through one window) and Sponz
   qmc + compensation        bias compensation, 4 gather rays (--compensate 4)
   qmc + atrous              the edge-avoiding a-trous filter (--filter atrous)
   qmc + roulette            shadow-ray Russian roulette at 0.2 (--roulette 0.2)
+  temporal 8 / 32           temporal reuse of a still view: the 8th / 32nd frame of --temporal 8 / 32
 
 each over VPLs per pixel 4 ... 64 at 3x3 interleaving, anti-aliasing 1. Every frame is compared
 with a path-traced reference (rendered once and cached: --integrator path, jittered pixels) by
@@ -32,12 +33,15 @@ VPLS = [4, 8, 16, 32, 64]
 FRAMES = 3  # timed frames per run; the median is reported
 # Reference samples per pixel (in passes of 64): Sponza's paths are the costliest.
 REFERENCE_SPP = {"cornell": 1024, "window": 1024, "sponza_lit": 512}
+# (label, igi-render options, frames rendered: the last one is compared, their median timed)
 METHODS = [
-    ("qmc + discontinuity", []),
-    ("importance", ["--vpl-sampler", "importance"]),
-    ("qmc + compensation", ["--compensate", "4"]),
-    ("qmc + atrous", ["--filter", "atrous"]),
-    ("qmc + roulette", ["--roulette", "0.2"]),
+    ("qmc + discontinuity", [], FRAMES),
+    ("importance", ["--vpl-sampler", "importance"], FRAMES),
+    ("qmc + compensation", ["--compensate", "4"], FRAMES),
+    ("qmc + atrous", ["--filter", "atrous"], FRAMES),
+    ("qmc + roulette", ["--roulette", "0.2"], FRAMES),
+    ("temporal 8", ["--temporal", "8"], 8),
+    ("temporal 32", ["--temporal", "32"], 32),
 ]
 
 
@@ -59,7 +63,10 @@ def compare(build, reference, test):
     return json.loads(subprocess.run(command, check=True, capture_output=True, text=True).stdout)
 
 
-def main():
+def arguments_and_references(tool):
+    """BUILD_DIR, WORK_DIR, OUT_DIR and SCENES_DIR from the command line (the folders made), and the
+    scenes to measure (Sponza_lit only where its file exists), each with its path-traced reference
+    in WORK_DIR (rendered once, then reused), as [(scene, reference path)]."""
     build, work, out = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
     scenes_dir = Path(sys.argv[4]) if len(sys.argv) > 4 else Path(__file__).resolve().parents[3] / "shared" / "scenes"
     work.mkdir(parents=True, exist_ok=True)
@@ -68,20 +75,29 @@ def main():
     if (scenes_dir / "sponza" / "Sponza_lit.gltf").exists():
         scenes.append("sponza_lit")
     else:
-        print(f"methods: skipping sponza_lit: {scenes_dir}/sponza/Sponza_lit.gltf is missing")
-    rows = []
+        print(f"{tool}: skipping sponza_lit: {scenes_dir}/sponza/Sponza_lit.gltf is missing")
+    references = []
     for scene in scenes:
         reference = work / f"reference_{scene}.pfm"
         if not reference.exists():
             spp = REFERENCE_SPP[scene]
-            print(f"methods: reference {scene}, {spp} spp", flush=True)
+            print(f"{tool}: reference {scene}, {spp} spp", flush=True)
             render(build, scene_arguments(scene, scenes_dir) + ["--integrator", "path", "--spp", "64",
                                                                  "--frames", str(spp // 64)], reference)
-        for label, options in METHODS:
+        references.append((scene, reference))
+    return build, work, out, scenes_dir, references
+
+
+def main():
+    build, work, out, scenes_dir, references = arguments_and_references("methods")
+    scenes = [scene for scene, _ in references]
+    rows = []
+    for scene, reference in references:
+        for label, options, frames in METHODS:
             for vpls in VPLS:
                 test = work / f"{scene}_{label.replace(' ', '').replace('+', '_')}_{vpls}.pfm"
                 stats = render(build, scene_arguments(scene, scenes_dir) + options +
-                               ["--vpls", str(vpls), "--frames", str(FRAMES)], test)
+                               ["--vpls", str(vpls), "--frames", str(frames)], test)
                 error = compare(build, reference, test)
                 rows.append({"scene": scene, "method": label, "vpls": vpls, "ms_per_frame": stats["ms_per_frame"],
                              "relmse": error["relmse"], "rmse": error["rmse"]})
@@ -93,7 +109,7 @@ def main():
         writer.writerows(rows)
     figure, axes = plt.subplots(1, len(scenes), figsize=(5 * len(scenes), 4.2))
     for axis, scene in zip(axes, scenes):
-        for label, _ in METHODS:
+        for label, _, _ in METHODS:
             points = sorted((r["ms_per_frame"], r["relmse"]) for r in rows if r["scene"] == scene and r["method"] == label)
             axis.plot([p[0] for p in points], [p[1] for p in points], marker="o", label=label)
         axis.set_xscale("log")

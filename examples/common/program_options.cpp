@@ -73,6 +73,15 @@ void add_sampling_options(CommandLine& command_line, RenderSettings& settings) {
   command_line.add("--aa", settings.antialiasing, "primary rays per pixel N (interleaved super-sampling)").show_default();
 }
 
+void add_temporal_option(CommandLine& command_line, RenderSettings& settings) {
+  command_line.add("--temporal", settings.temporal_frames,
+                   "temporal reuse: each pixel averages up to this many frames of its history, reprojected with the "
+                   "camera's motion and dropped where another surface shows or the scene changed; while the view "
+                   "stays still the clamp shrinks, so the image converges towards the unclamped one (0: off)")
+      .range(0, max_temporal_frames)
+      .show_default();
+}
+
 void add_filter_option(CommandLine& command_line, std::string& filter) {
   command_line.add("--filter", filter, "irradiance filter: discontinuity (the paper's S x S buffer), atrous (edge-avoiding a-trous wavelet passes after it: smoother, renders a wider border around each tile), box or none")
       .choices({"discontinuity", "atrous", "box", "none"})

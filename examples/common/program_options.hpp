@@ -52,6 +52,8 @@ Scene load_scene(const SceneOptions& scene);
 void add_size_option(CommandLine& command_line, std::string& size);
 /// Adds --vpls, --interleave and --aa: the IGI sampling settings M, S and N.
 void add_sampling_options(CommandLine& command_line, RenderSettings& settings);
+/// --temporal: RenderSettings::temporal_frames (programs that render whole frames in one process).
+void add_temporal_option(CommandLine& command_line, RenderSettings& settings);
 /// Adds --filter: discontinuity, atrous, box or none.
 void add_filter_option(CommandLine& command_line, std::string& filter);
 /// Adds --vpl-sampler: qmc or importance (names of igi::VplSamplerChoice).

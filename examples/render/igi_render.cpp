@@ -109,8 +109,10 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
       .set("compensation_rays", options.settings.compensation_rays)
       .set("shadow_roulette", double(options.settings.shadow_roulette))
       .set("max_bounces", options.settings.max_bounces)
+      .set("temporal_frames", options.settings.temporal_frames)
       .set("vpls_per_frame", frame.statistics.vpls)
-      .set("vpl_ms", frame.statistics.vpl_milliseconds);
+      .set("vpl_ms", frame.statistics.vpl_milliseconds)
+      .set("temporal_ms", frame.statistics.temporal_milliseconds);
   if (options.profile)
     extra.set("stage_cpu_ms", stage_milliseconds(frame.statistics.stages));
   else
@@ -188,12 +190,15 @@ int main(int argc, char** argv) {
                      "render --frames frames of a moving scene to an image sequence: -o out.png writes out_0000.png, "
                      "out_0001.png, ...; -o frames/%04d.png numbers them printf-style. light: the lights circle, "
                      "object: the smallest object slides, camera: the view orbits the scene");
+  add_temporal_option(command_line, options.settings);
   command_line.flag("--profile", options.profile,
                     "time each pipeline stage; --stats json then reports the last frame's CPU ms per stage as "
                     "stage_cpu_ms (the clock reads make the frames 2-9% slower)");
   if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
     check_render_options(options);
+    if (options.settings.temporal_frames > 0 && options.integrator != "igi")
+      throw UsageError("--temporal averages IGI frames: it needs --integrator igi (the path tracer accumulates its passes anyway)");
     if (options.animate != "none") {
       if (options.integrator != "igi")
         throw UsageError("--animate renders with --integrator igi only (the path tracer accumulates one still image)");

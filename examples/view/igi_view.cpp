@@ -61,6 +61,8 @@ class ViewRenderer {
   virtual void set_instance_transform(int instance, const glm::mat4& transform) = 0;
   /// Replaces punctual light `light`.
   virtual void set_light(int light, const igi::PunctualLight& value) = 0;
+  /// Frames before the last one with the same view and scene (with temporal reuse; else 0).
+  virtual int still_frames() const = 0;
 };
 
 /// The Renderer over backend B with the glTF materials, the standard BRDF and the chosen VPL sampler.
@@ -78,6 +80,7 @@ class TypedViewRenderer final : public ViewRenderer {
     renderer_.set_instance_transform(instance, transform);
   }
   void set_light(int light, const igi::PunctualLight& value) override { renderer_.set_light(light, value); }
+  int still_frames() const override { return renderer_.temporal() ? renderer_.temporal()->still_frames() : 0; }
 
  private:
   // The renderer borrows the policies: they are declared (so built) before it.
@@ -128,7 +131,7 @@ int index_of(const Range& range, const Value& value, Same same) {
 constexpr const char* key_help =
     "igi-view keys: mouse drag orbit, wheel zoom, W/A/S/D fly, Q/E down/up, arrows + PageUp/PageDown move the light,\n"
     "  L animate the light, +/- VPLs per pixel, F filter, I interleaving size, N anti-aliasing, B backend/packet,\n"
-    "  P screenshot, R reset view, H help, Esc quit\n";
+    "  T temporal reuse on/off, P screenshot, R reset view, H help, Esc quit\n";
 
 /// The SDL window, its renderer and streaming texture; released in reverse order.
 class Window {
@@ -210,6 +213,7 @@ class Viewer {
     animate_light_ = animation == igi::Animation::light;
     animate_camera_ = animation == igi::Animation::camera;
     if (animate_light_ && !light_) throw UsageError("--animate light: the scene has no light that can move");
+    if (options.settings.temporal_frames > 0) temporal_frames_when_on_ = options.settings.temporal_frames;
     rebuild();
   }
 
@@ -225,6 +229,9 @@ class Viewer {
       const igi::Frame rendered = renderer_->render(camera_.camera(), frame);
       if (igi::programs::stop_requested()) return igi::programs::stopped("igi-view");
       milliseconds.push_back(rendered.statistics.milliseconds);
+      // Temporal reuse averages inside the renderer (and keeps its history while the camera
+      // moves); without it, a still view accumulates here and restarts on any change.
+      if (settings_.temporal_frames > 0) accumulator_.reset();
       accumulator_.add(rendered.hdr);
       const igi::Rgb8Image shown = igi_view::tone_map(accumulator_.mean());
       const bool last = options_.frames > 0 && int(frame) + 1 >= options_.frames;
@@ -243,7 +250,7 @@ class Viewer {
     if (!milliseconds.empty()) {
       const double median = igi::programs::median(milliseconds);
       std::printf("%zu frames, median %.2f ms (%.1f fps), last image accumulated over %d frames\n",
-                  milliseconds.size(), median, median > 0.0 ? 1000.0 / median : 0.0, accumulator_.count());
+                  milliseconds.size(), median, median > 0.0 ? 1000.0 / median : 0.0, accumulated_frames());
     }
     return 0;
   }
@@ -263,8 +270,9 @@ class Viewer {
     igi::validate(settings_);
     renderer_.reset();
     renderer_ = make_renderer(backend_choices[backend_], scene_, settings_, filter_choices[filter_], options_.vpl_sampler);
-    std::printf("renderer: %s/%d M=%d S=%d N=%d %s\n", backend_choices[backend_].backend, backend_choices[backend_].packet,
-                settings_.vpls_per_pixel, settings_.interleave, settings_.antialiasing, filter_choices[filter_]);
+    std::printf("renderer: %s/%d M=%d S=%d N=%d %s temporal %d\n", backend_choices[backend_].backend,
+                backend_choices[backend_].packet, settings_.vpls_per_pixel, settings_.interleave, settings_.antialiasing,
+                filter_choices[filter_], settings_.temporal_frames);
     std::fflush(stdout);
     restart();
   }
@@ -378,6 +386,10 @@ class Viewer {
         backend_ = (backend_ + 1) % int(std::size(backend_choices));
         rebuild();
         break;
+      case SDLK_t:
+        settings_.temporal_frames = settings_.temporal_frames > 0 ? 0 : temporal_frames_when_on_;
+        rebuild();
+        break;
       case SDLK_LEFT: light_move.x -= step; break;
       case SDLK_RIGHT: light_move.x += step; break;
       case SDLK_UP: light_move.z -= step; break;
@@ -393,15 +405,23 @@ class Viewer {
     return true;
   }
 
+  /// Frames the shown image averages: with temporal reuse the renderer's still frames (its
+  /// history caps them at --temporal), else the viewer's own accumulator's.
+  int accumulated_frames() const {
+    return settings_.temporal_frames > 0 ? std::min(renderer_->still_frames() + 1, settings_.temporal_frames)
+                                         : accumulator_.count();
+  }
+
   /// The title bar: timings, settings and how many frames the image holds.
   std::string title(const igi::Frame& frame) const {
     const double ms = frame.statistics.milliseconds;
+    const int frames = accumulated_frames();
     char text[256];
-    std::snprintf(text, sizeof text, "igi-view  %.1f ms  %.1f fps  %.2f Mrays/s  |  %s/%d  M=%d  S=%d  N=%d  %s  |  %d frame%s",
+    std::snprintf(text, sizeof text, "igi-view  %.1f ms  %.1f fps  %.2f Mrays/s  |  %s/%d  M=%d  S=%d  N=%d  %s  |  %s%d frame%s",
                   ms, ms > 0.0 ? 1000.0 / ms : 0.0, frame.statistics.mrays_per_second(), backend_choices[backend_].backend,
                   backend_choices[backend_].packet, settings_.vpls_per_pixel, settings_.interleave,
-                  settings_.antialiasing, filter_choices[filter_], accumulator_.count(),
-                  accumulator_.count() == 1 ? "" : "s");
+                  settings_.antialiasing, filter_choices[filter_], settings_.temporal_frames > 0 ? "temporal " : "",
+                  frames, frames == 1 ? "" : "s");
     return text;
   }
 
@@ -425,6 +445,9 @@ class Viewer {
   bool animate_light_ = false;
   bool animate_camera_ = false;
   bool screenshot_requested_ = false;
+  /// History length the T key switches temporal reuse on with: --temporal's, else 32 frames
+  /// (a second at 30 fps: long enough to smooth 16-VPL noise, short enough to follow a moving view).
+  int temporal_frames_when_on_ = 32;
 };
 
 }  // namespace
@@ -441,11 +464,12 @@ int main(int argc, char** argv) {
   igi::programs::add_backend_options(command_line, options.backend, options.packet);
   igi::programs::add_threads_option(command_line, options.settings.threads, "worker threads (0: all cores)");
   igi::programs::add_seed_option(command_line, options.settings.seed);
+  igi::programs::add_temporal_option(command_line, options.settings);
   command_line.add("--frames", options.frames, "quit after this many frames (0: run until closed)").range(0, 1000000).show_default();
   igi::programs::add_animate_option(command_line, options.animate,
                                     "what moves from the first frame: light: the light circles, camera: the view orbits the scene",
                                     {"none", "light", "camera"});
-  command_line.add("--keys", options.keys, "key presses, one per frame from the first (any of bfilnpr+-), to script a session");
+  command_line.add("--keys", options.keys, "key presses, one per frame from the first (any of bfilnprt+-), to script a session");
   command_line.add("--screenshot", options.screenshot, "PNG of the window after the last of --frames frames (interactively: P key)");
   if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
@@ -458,8 +482,8 @@ int main(int argc, char** argv) {
     if (options.backend == "saarcor") options.packet = 64;
     if (!options.screenshot.empty() && igi::image_format(options.screenshot) != igi::ImageFormat::png)
       throw UsageError("--screenshot: '" + options.screenshot + "' must end in .png");
-    if (options.keys.find_first_not_of("bfilnpr+-") != std::string::npos)
-      throw UsageError("--keys: '" + options.keys + "' has a key other than b f i l n p r + -");
+    if (options.keys.find_first_not_of("bfilnprt+-") != std::string::npos)
+      throw UsageError("--keys: '" + options.keys + "' has a key other than b f i l n p r t + -");
     if (!options.screenshot.empty() && options.frames == 0)
       throw UsageError("--screenshot needs --frames N (interactively, press P)");
     igi::validate(options.settings);

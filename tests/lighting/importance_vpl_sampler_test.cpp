@@ -219,7 +219,7 @@ TEST_CASE("ImportanceVplSampler: a frame's VPLs do not depend on the thread coun
     settings.threads = threads;
     TileEngine<EmbreeBackend<8>, GltfMaterialShader, StandardBrdf, VplSamplerChoice, NoFilter> engine(
         scene, settings, shader, brdf, sampler, filter);
-    engine.begin_frame(scene.cameras.front(), 2, ToneMapping{}, false);
+    engine.begin_frame(scene.cameras.front(), 2, ToneMapping{});
     frames.push_back(engine.frame().vpls);
   }
   CHECK(same(frames[0], frames[1]));

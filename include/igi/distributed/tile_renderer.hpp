@@ -31,12 +31,15 @@ class TileRenderer {
       : engine_(scene, settings, surface, brdf, sampler, filter) {}
 
   /// Applies broadcast scene changes (they take effect at the next begin_frame); throws SceneError on bad indices.
-  void apply(const SceneChanges& changes) { camera_ = engine_.apply(changes); }
+  void apply(const SceneChanges& changes) {
+    engine_.apply(changes);
+    camera_ = changes.camera;
+  }
 
   /// Prepares frame `index` with the camera of the last apply(): commits scene changes, generates
   /// the frame's VPLs and sets up the shared frame state with `tone_mapping`.
   void begin_frame(std::uint32_t index, const ToneMapping& tone_mapping) {
-    engine_.begin_frame(camera_, index, tone_mapping, false);
+    engine_.begin_frame(camera_, index, tone_mapping);
   }
 
   /// Renders tile `tile` of the current frame into `out` (any thread; each has its own workspace).

@@ -37,6 +37,13 @@ inline VplSettings vpl_settings_for(const RenderSettings& settings, std::uint32_
   return vpl_settings;
 }
 
+/// What a frame asks of the tile engine beyond scene, camera, settings and index.
+struct FrameOptions {
+  bool profile = false;      ///< Time each pipeline stage into the tiles' results.
+  bool keep_layers = false;  ///< Tiles return their pixels' PixelLayers (what temporal reuse reads).
+  float clamp_scale = 1.0f;  ///< Factor on the resolved clamp distance (temporal reuse shrinks it while the view stays still).
+};
+
 /// One frame's shared, read-only inputs of the pipeline.
 struct FrameState {
   const Scene* scene = nullptr;                ///< The scene as of this frame.
@@ -49,19 +56,20 @@ struct FrameState {
   ToneMapping tone_mapping;                    ///< Parameters from the previous frame.
   std::uint32_t index = 0;                     ///< Frame index: what randomises the frame's samples.
   bool profile = false;                        ///< Time each stage into TileResult::stages (2-9% slower frames).
+  bool keep_layers = false;                    ///< Tiles return their pixels' PixelLayers (TileResult::layers), for temporal reuse.
 
   /// Builds frame `index` of `scene` (committed in `backend`) seen by `camera`, to be tone mapped
   /// with `tone_mapping`: VPLs from `sampler`, whose walks shade their hits with the frame's own
   /// `surface` and `brdf` shaders, spread for glossy receivers by assign_vpl_radii, and clamp and ray offsets from the scene's world `bounds`
-  /// (SceneBounds keeps them without walking every vertex each frame).
+  /// (SceneBounds keeps them without walking every vertex each frame), the clamp times `clamp_scale`.
   template <class B, class Surface, class Brdf, class Sampler>
     requires VplSampler<Sampler, B, Surface, Brdf>
   void prepare(const Scene& scene, const Bounds& bounds, const B& backend, const Surface& surface, const Brdf& brdf,
                const Sampler& sampler, const RenderSettings& frame_settings, const Camera& camera, std::uint32_t index,
-               const ToneMapping& frame_tone_mapping) {
+               const ToneMapping& frame_tone_mapping, float clamp_scale = 1.0f) {
     const PinholeProjection frame_projection(camera, frame_settings.width, frame_settings.height);
     const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
-    const float frame_clamp = resolve_clamp(frame_settings, diagonal);
+    const float frame_clamp = resolve_clamp(frame_settings, diagonal) * clamp_scale;
     {
       const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
       const VplView view{.projection = frame_projection, .clamp_distance = frame_clamp};
@@ -77,6 +85,7 @@ struct FrameState {
     tone_mapping = frame_tone_mapping;
     this->index = index;
     profile = false;
+    keep_layers = false;
   }
   /// True once prepare has run.
   bool prepared() const noexcept { return projection.has_value(); }

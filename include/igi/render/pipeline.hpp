@@ -32,6 +32,7 @@
 #include "igi/lighting/lights.hpp"
 #include "igi/render/frame_state.hpp"
 #include "igi/render/interleaving.hpp"
+#include "igi/render/pixel_layers.hpp"
 #include "igi/shading/brdf_shader.hpp"
 #include "igi/shading/constants.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
@@ -128,6 +129,7 @@ struct TileResult {
   LuminanceStatistics luminance;      ///< For the next frame's tone mapping.
   RayCounts rays;                     ///< Work done.
   StageTimes stages;                  ///< Where the time went (with FrameState::profile).
+  std::vector<PixelLayers> layers;    ///< The pixels' shading terms, row-major over rect (with FrameState::keep_layers; else empty).
 };
 
 /// The streaming pipeline over a Backend, the surface and BRDF shaders and the filter (the VPL
@@ -514,15 +516,22 @@ class Pipeline {
     const std::size_t n = std::size_t(tile.width()) * std::size_t(tile.height());
     out.hdr.resize(n);
     out.rgb8.resize(n);
+    out.layers.resize(frame.keep_layers ? n : 0);
     out.luminance = {};
     const int border = tile.x0 - extended.x0;
     for (int y = 0; y < tile.height(); ++y)
       for (int x = 0; x < tile.width(); ++x) {
         const std::size_t at = g.index(x + border, y + border);
         const std::size_t inner = std::size_t(y) * std::size_t(tile.width()) + std::size_t(x);
-        glm::vec3 radiance = g.radiance[at];
-        if (g.hit[at])
-          radiance += g.albedo[at] * filtered.irradiance[inner] * inv_pi + filtered.glossy[inner];
+        const PixelLayers layers{.irradiance = filtered.irradiance[inner],
+                                 .glossy = filtered.glossy[inner],
+                                 .albedo = g.albedo[at],
+                                 .rest = g.radiance[at],
+                                 .normal = g.normal[at],
+                                 .depth = g.depth[at],
+                                 .hit = g.hit[at] != 0.0f};
+        const glm::vec3 radiance = layers.radiance();
+        if (frame.keep_layers) out.layers[inner] = layers;
         out.hdr[inner] = radiance;
         out.luminance.add(radiance);
         out.rgb8[inner] = quantize_srgb(frame.tone_mapping.apply(radiance));

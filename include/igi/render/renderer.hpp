@@ -8,8 +8,12 @@
 #include <mutex>
 #include <optional>
 #include <span>
+#include <vector>
+
+#include <oneapi/tbb/parallel_for.h>
 
 #include "igi/render/pipeline.hpp"
+#include "igi/render/temporal_reuse.hpp"
 #include "igi/render/tile_engine.hpp"
 
 namespace igi {
@@ -18,6 +22,7 @@ namespace igi {
 struct FrameStatistics {
   double milliseconds = 0.0;      ///< Whole frame, VPL generation included.
   double vpl_milliseconds = 0.0;  ///< Frame set-up: VPL generation, instance matrices, projection.
+  double temporal_milliseconds = 0.0;  ///< Temporal reuse: reprojection, averaging, statistics and tone mapping anew (0 when off).
   RayCounts rays;                 ///< Rays traced.
   int tiles = 0;                  ///< Tiles rendered.
   int vpls = 0;                   ///< VPLs in all sets.
@@ -66,13 +71,15 @@ inline void Frame::tone_map(const ToneMapping& mapping) {
     for (int x = 0; x < width; ++x) store_pixel(rgb8, x, y, quantize_srgb(mapping.apply(hdr(x, y))));
 }
 
-/// Copies a finished tile's pixels into its place in the frame.
-inline void place_tile(const TileResult& tile, Frame& frame) {
+/// Copies a finished tile's pixels into its place in the frame, and its PixelLayers, if it has
+/// them, into `layers` (the frame's, row-major).
+inline void place_tile(const TileResult& tile, Frame& frame, std::span<PixelLayers> layers = {}) {
   std::size_t from = 0;
   for (int y = tile.rect.y0; y < tile.rect.y1; ++y)
     for (int x = tile.rect.x0; x < tile.rect.x1; ++x, ++from) {
       frame.hdr(x, y) = tile.hdr[from];
       store_pixel(frame.rgb8, x, y, tile.rgb8[from]);
+      if (!tile.layers.empty()) layers[std::size_t(y) * std::size_t(frame.width) + std::size_t(x)] = tile.layers[from];
     }
 }
 
@@ -93,25 +100,38 @@ class Renderer {
       : engine_(scene, settings, surface, brdf, sampler, filter) {}
 
   /// Renders frame `index` as seen by `camera`. The HDR image depends only on scene, camera,
-  /// settings and index; the RGB8 image is tone mapped with the previous frame's statistics (the
-  /// first frame, having none, is mapped with its own).
+  /// settings and index (with RenderSettings::temporal_frames, on those of the frames before it
+  /// too); the RGB8 image is tone mapped with the previous frame's statistics (the first frame,
+  /// having none, is mapped with its own).
   Frame render(const Camera& camera, std::uint32_t index) {
     using clock = std::chrono::steady_clock;
     const auto start = clock::now();
     const RenderSettings& settings = engine_.settings();
     Frame frame = Frame::blank(settings.width, settings.height, index);
-    engine_.begin_frame(camera, index, tone_mapping_ ? *tone_mapping_ : ToneMapping{}, profiling_);
+    FrameOptions options{.profile = profiling_};
+    if (temporal_) {
+      options.keep_layers = true;
+      options.clamp_scale = temporal_->begin(camera, settings.width, settings.height, scene_changed_);
+      layers_.resize(std::size_t(settings.width) * std::size_t(settings.height));
+    }
+    scene_changed_ = false;
+    engine_.begin_frame(camera, index, tone_mapping_ ? *tone_mapping_ : ToneMapping{}, options);
     const auto vpls_done = clock::now();
 
     std::mutex merge_mutex;
     FrameStatistics& stats = frame.statistics;
     engine_.render_tiles(engine_.all_tiles(), [&](std::size_t, const TileResult& result, double) {
-      place_tile(result, frame);  // tiles are disjoint: no lock needed
+      place_tile(result, frame, layers_);  // tiles are disjoint: no lock needed
       std::lock_guard lock(merge_mutex);
       stats.rays.merge(result.rays);
       stats.stages.merge(result.stages);
       stats.luminance.merge(result.luminance);
     });
+    if (temporal_) {
+      const auto reuse_start = clock::now();
+      reuse_history(frame);
+      stats.temporal_milliseconds = std::chrono::duration<double, std::milli>(clock::now() - reuse_start).count();
+    }
     const ToneMapping next = ToneMapping::from(stats.luminance);
     if (!tone_mapping_) frame.tone_map(next);
     tone_mapping_ = next;
@@ -124,18 +144,32 @@ class Renderer {
   }
 
   /// Moves instance `instance` (takes effect at the next frame).
-  void set_instance_transform(int instance, const glm::mat4& transform) { engine_.set_instance_transform(instance, transform); }
+  void set_instance_transform(int instance, const glm::mat4& transform) {
+    engine_.set_instance_transform(instance, transform);
+    scene_changed_ = true;
+  }
   /// Replaces the vertex positions of mesh `mesh` (same count; takes effect at the next frame).
-  void set_mesh_positions(int mesh, std::span<const glm::vec3> positions) { engine_.set_mesh_positions(mesh, positions); }
+  void set_mesh_positions(int mesh, std::span<const glm::vec3> positions) {
+    engine_.set_mesh_positions(mesh, positions);
+    scene_changed_ = true;
+  }
   /// Replaces punctual light `light` (lights are read afresh every frame).
-  void set_light(int light, const PunctualLight& value) { engine_.set_light(light, value); }
+  void set_light(int light, const PunctualLight& value) {
+    engine_.set_light(light, value);
+    scene_changed_ = true;
+  }
   /// Applies an animation's `changes` and returns their camera (see TileEngine::apply).
-  Camera apply(const SceneChanges& changes) { return engine_.apply(changes); }
+  Camera apply(const SceneChanges& changes) {
+    if (engine_.apply(changes)) scene_changed_ = true;
+    return changes.camera;
+  }
   /// Times every pipeline stage of the following frames into FrameStatistics::stages (off by
   /// default: the clock reads around each packet's queries made Cornell and Sponza_lit frames 2-9% slower).
   void set_profiling(bool on) noexcept { profiling_ = on; }
   /// Forgets the tone-mapping history, as after a cut.
   void reset_tone_mapping() noexcept { tone_mapping_.reset(); }
+  /// The temporal histories (with RenderSettings::temporal_frames; else null).
+  const TemporalReuse* temporal() const noexcept { return temporal_ ? &*temporal_ : nullptr; }
 
   /// The scene being rendered.
   const Scene& scene() const noexcept { return engine_.scene(); }
@@ -145,9 +179,32 @@ class Renderer {
   const RenderSettings& settings() const noexcept { return engine_.settings(); }
 
  private:
+  /// Replaces the frame's radiance by its average with the pixels' histories (TemporalReuse), and
+  /// its luminance statistics and RGB8 image by the average's.
+  void reuse_history(Frame& frame) {
+    LuminanceStatistics& luminance = frame.statistics.luminance;
+    std::vector<LuminanceStatistics> rows(std::size_t(frame.height));
+    engine_.execute([&] {
+      temporal_->accumulate(*engine_.frame().projection, engine_.settings().antialiasing, layers_, frame.hdr);
+      tbb::parallel_for(0, frame.height, [&](int y) {
+        for (int x = 0; x < frame.width; ++x) {
+          rows[std::size_t(y)].add(frame.hdr(x, y));
+          if (tone_mapping_) store_pixel(frame.rgb8, x, y, quantize_srgb(tone_mapping_->apply(frame.hdr(x, y))));
+        }
+      });
+    });
+    luminance = {};
+    for (const LuminanceStatistics& row : rows) luminance.merge(row);  // in row order: the same sums on any thread count
+  }
+
   Engine engine_;
   std::optional<ToneMapping> tone_mapping_;
   bool profiling_ = false;
+  std::optional<TemporalReuse> temporal_ =
+      engine_.settings().temporal_frames > 0 ? std::optional<TemporalReuse>(engine_.settings().temporal_frames)
+                                             : std::nullopt;
+  bool scene_changed_ = false;       ///< Whether the scene changed since the last frame (temporal reuse drops its histories).
+  std::vector<PixelLayers> layers_;  ///< The current frame's PixelLayers (with temporal reuse).
 };
 
 }  // namespace igi

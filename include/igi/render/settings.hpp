@@ -35,6 +35,10 @@ struct RenderSettings {
   /// and, if visible, that much more weight (unbiased: fewer rays, a little more noise). 0: off.
   float shadow_roulette = 0.0f;
   int compensation_rays = 0;      ///< Bias compensation: gather rays per pixel that return the light the clamp removes (0: off).
+  /// Temporal reuse (whole frames of one Renderer): each pixel averages up to this many frames
+  /// of its history, reprojected with the camera's motion and dropped where normal or depth
+  /// disagree; while the view stays still the clamp shrinks with the history (see TemporalReuse). 0: off.
+  int temporal_frames = 0;
   std::uint32_t seed = 0;         ///< Randomisation of the QMC sequences.
   int threads = 0;                ///< Worker threads; 0 means all cores.
 };
@@ -48,6 +52,9 @@ inline constexpr int max_interleave = 8;
 /// Most bias-compensation gather rays per pixel: each takes its own share of the pixel's VPLs, so
 /// more than 64 would leave most of them without one at the VPL counts interactive use has.
 inline constexpr int max_compensation_rays = 64;
+/// Longest temporal history: at 1024 frames the clamp has shrunk to 0.18 of its setting (the
+/// fourth root), and a new frame's weight 1/1024 is still far above float rounding of the average.
+inline constexpr int max_temporal_frames = 1024;
 /// Largest anti-aliasing factor: 64 sub-samples per pixel is past any visible gain.
 inline constexpr int max_antialiasing = 64;
 
@@ -79,6 +86,9 @@ inline void validate(const RenderSettings& s) {
   require(s.compensation_rays >= 0 && s.compensation_rays <= max_compensation_rays,
           "compensation rays " + std::to_string(s.compensation_rays) + " is outside 0.." +
               std::to_string(max_compensation_rays));
+  require(s.temporal_frames >= 0 && s.temporal_frames <= max_temporal_frames,
+          "temporal frames " + std::to_string(s.temporal_frames) + " is outside 0.." +
+              std::to_string(max_temporal_frames));
   require(s.tile_size >= 4 && s.tile_size <= 1024, "tile size " + std::to_string(s.tile_size) + " is outside 4..1024");
   require(!(s.clamp_distance != s.clamp_distance), "clamp distance is NaN");
   require(s.max_depth >= 0 && s.max_depth <= 64, "max depth " + std::to_string(s.max_depth) + " is outside 0..64");

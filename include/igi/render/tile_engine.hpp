@@ -14,6 +14,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
@@ -77,28 +78,45 @@ class TileEngine {
   }
   /// Replaces punctual light `light` (lights are read afresh every frame).
   void set_light(int light, const PunctualLight& value) { scene_->lights.at(std::size_t(light)) = value; }
-  /// Applies `changes` (throws SceneError on an index the scene lacks, before changing anything)
-  /// and returns their camera. Only transforms that differ are set, so an unchanged scene is not
-  /// re-committed and the first frame of an animation renders exactly as a still frame.
-  Camera apply(const SceneChanges& changes) {
+  /// Applies `changes` (throws SceneError on an index the scene lacks, before changing anything);
+  /// returns whether any light or instance changed. Only what differs is set, so an unchanged
+  /// scene is not re-committed and the first frame of an animation renders exactly as a still frame.
+  bool apply(const SceneChanges& changes) {
     changes.check(*scene_);
-    for (const auto& [index, light] : changes.lights) set_light(index, light);
+    bool changed = false;
+    for (const auto& [index, light] : changes.lights)
+      if (!(scene_->lights[std::size_t(index)] == light)) {
+        set_light(index, light);
+        changed = true;
+      }
     for (const auto& [index, transform] : changes.instances)
-      if (scene_->instances[std::size_t(index)].transform != transform) set_instance_transform(index, transform);
-    return changes.camera;
+      if (scene_->instances[std::size_t(index)].transform != transform) {
+        set_instance_transform(index, transform);
+        changed = true;
+      }
+    return changed;
   }
 
   /// Prepares frame `index` as seen by `camera`: commits the scene changes, generates the frame's
-  /// VPLs and sets up the FrameState every tile reads, tone mapped with `tone_mapping`; `profile`
-  /// times each pipeline stage into the tiles' results.
-  void begin_frame(const Camera& camera, std::uint32_t index, const ToneMapping& tone_mapping, bool profile) {
+  /// VPLs and sets up the FrameState every tile reads, tone mapped with `tone_mapping`, with what
+  /// `options` asks (stage timing, the tiles' PixelLayers, a scaled clamp).
+  void begin_frame(const Camera& camera, std::uint32_t index, const ToneMapping& tone_mapping,
+                   const FrameOptions& options = {}) {
     if (dirty_) {
       backend_->commit();
       dirty_ = false;
     }
     frame_.prepare(*scene_, bounds_.bounds(), *backend_, *surface_, *brdf_, *sampler_, settings_, camera, index,
-                   tone_mapping);
-    frame_.profile = profile;
+                   tone_mapping, options.clamp_scale);
+    frame_.profile = options.profile;
+    frame_.keep_layers = options.keep_layers;
+  }
+
+  /// Runs `work` inside this engine's threads (its task arena), so oneTBB loops in it use the
+  /// engine's thread count.
+  template <class Work>
+  void execute(Work&& work) {
+    arena_.execute(std::forward<Work>(work));
   }
 
   /// Renders tile `tile` (an index into tiles()) of the current frame into `out` on the calling

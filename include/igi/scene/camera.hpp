@@ -4,6 +4,7 @@
 /// turns continuous pixel coordinates into primary-ray directions (scalar and per packet).
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -73,6 +74,7 @@ struct PinholeProjection {
     top_left_ = rotation * glm::vec3(-half_width, half_height, -1.0f);
     right_step_ = rotation * glm::vec3(2.0f * half_width / float(width), 0.0f, 0.0f);
     down_step_ = rotation * glm::vec3(0.0f, -2.0f * half_height / float(height), 0.0f);
+    forward_ = rotation * glm::vec3(0.0f, 0.0f, -1.0f);
   }
 
   /// World-space eye position, the origin of every primary ray.
@@ -89,6 +91,19 @@ struct PinholeProjection {
     return normalize(vec3<W>(top_left_) + vec3<W>(right_step_) * px + vec3<W>(down_step_) * py);
   }
 
+  /// Continuous pixel coordinates (px, py) whose ray passes through world point `point`, the
+  /// inverse of direction(); empty for a point not in front of the eye. They may lie outside the image.
+  std::optional<glm::vec2> project(const glm::vec3& point) const noexcept {
+    const glm::vec3 offset = point - eye_;
+    // offset = t (top_left_ + px right_step_ + py down_step_), and only top_left_ has a component along forward_.
+    const float t = glm::dot(offset, forward_) / glm::dot(top_left_, forward_);
+    if (!(t > 0.0f)) return std::nullopt;
+    const glm::vec3 on_plane = offset / t - top_left_;
+    // right_step_ and down_step_ are orthogonal to each other and to forward_ (a rigid camera).
+    return glm::vec2(glm::dot(on_plane, right_step_) / glm::dot(right_step_, right_step_),
+                     glm::dot(on_plane, down_step_) / glm::dot(down_step_, down_step_));
+  }
+
   /// Image width in pixels.
   int width() const noexcept { return width_; }
   /// Image height in pixels.
@@ -101,6 +116,7 @@ struct PinholeProjection {
   glm::vec3 top_left_;
   glm::vec3 right_step_;
   glm::vec3 down_step_;
+  glm::vec3 forward_;  ///< Viewing direction (the camera's -Z).
 };
 
 }  // namespace igi

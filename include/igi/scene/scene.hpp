@@ -78,6 +78,8 @@ struct PunctualLight {
   float range = 0.0f;                  ///< 0 = unlimited.
   float inner_cone = 0.0f;             ///< Spot inner cone angle, radians.
   float outer_cone = 0.7853981634f;    ///< Spot outer cone angle, radians (glTF default pi/4).
+  /// Field by field.
+  bool operator==(const PunctualLight&) const = default;
 };
 
 /// A perspective pinhole camera; looks down its local -Z with +Y up, as in glTF.

@@ -1,0 +1,212 @@
+#pragma once
+/// \file
+/// Temporal reuse of a Renderer's frames. Each frame uses VPL sets of its own (the frame index
+/// seeds them), so averaging frames averages independent instant-radiosity estimates: each pixel
+/// keeps a history of its demodulated irradiance, found in the previous frame by reprojecting the
+/// pixel's first hit with the camera's motion and kept only where the previous pixel shows the
+/// same surface (normal and tangent plane agree). A history of n frames takes the new frame with
+/// weight 1/n, n capped at RenderSettings::temporal_frames (an exponential moving average past
+/// the cap). Glossy and mirror radiance depend on the view: they are averaged only while the
+/// camera stays where it was. A change of the scene (lights, instances, meshes) drops every
+/// history, so nothing lags behind a moving light or object.
+///
+/// While the view stays still the clamp distance shrinks as c n^(-1/4) with the history length n
+/// (capped as n is): the average of frames then converges towards the unclamped image instead of
+/// freezing the clamp's bias. The exponent balances what is left: the bias the clamp leaves falls
+/// with c (the light of the region within c of a contact), the average's variance grows as
+/// 1/c^2 per frame and falls as 1/n, so c^2 ~ n^(-1/2) makes both fall as n^(-1/2).
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <oneapi/tbb/parallel_for.h>
+
+#include "igi/io/image_types.hpp"
+#include "igi/render/interleaving.hpp"
+#include "igi/render/pixel_layers.hpp"
+#include "igi/render/settings.hpp"
+#include "igi/scene/camera.hpp"
+
+namespace igi {
+
+/// Averages a Renderer's frames over time (see the file comment).
+class TemporalReuse {
+ public:
+  /// A previous pixel whose normal is further than acos(0.9) = 26 degrees from the new one's is
+  /// another surface: wider than the shading normals' variation across one pixel of a curved
+  /// mesh, narrower than any crease worth keeping.
+  static constexpr float normal_agreement = 0.9f;
+  /// A previous pixel whose first hit lies further off the new hit's tangent plane than this
+  /// fraction of the new hit's depth is another surface: about three pixel footprints at 480 rows
+  /// and a 40 degree field of view (0.0015 of the depth each). Flat facets lie on the plane up to
+  /// rounding, a bumped shading normal tilts it by less over a pixel or two, and the step behind
+  /// an object's edge is far more.
+  static constexpr float plane_tolerance = 0.005f;
+  /// Longest irradiance history while the camera moves: every moving frame resamples the history
+  /// bilinearly, and 8 frames of that keep its blur near one pixel.
+  static constexpr int moving_frames = 8;
+
+  /// Histories of at most `frames` frames (1 .. max_temporal_frames); throws SettingsError otherwise.
+  explicit TemporalReuse(int frames) : frames_(frames) {
+    if (frames < 1 || frames > max_temporal_frames)
+      throw SettingsError("temporal frames " + std::to_string(frames) + " is outside 1.." +
+                          std::to_string(max_temporal_frames));
+  }
+
+  /// The clamp's scale for a frame after `still` frames of the same view, with histories of at most `frames`.
+  static float clamp_scale(int still, int frames) noexcept {
+    return std::pow(float(std::min(still + 1, frames)), -0.25f);
+  }
+
+  /// Starts a frame seen by `camera` at `width` x `height`; `scene_changed` says lights,
+  /// instances or meshes changed since the previous frame (every history is dropped). Returns
+  /// the scale the frame's clamp distance is to be rendered with.
+  float begin(const Camera& camera, int width, int height, bool scene_changed) {
+    const bool same_view = has_previous_ && !scene_changed && width == width_ && height == height_ &&
+                           camera.camera_to_world == previous_camera_.camera_to_world &&
+                           camera.yfov == previous_camera_.yfov;
+    if (scene_changed || width != width_ || height != height_) has_previous_ = false;
+    still_ = same_view ? still_ + 1 : 0;
+    camera_moved_ = !same_view;
+    width_ = width;
+    height_ = height;
+    previous_camera_ = camera;
+    return clamp_scale(still_, frames_);
+  }
+
+  /// Averages the frame's `layers` (width x height of begin, row-major, seen through
+  /// `projection` with `antialiasing` sub-samples) into the histories and writes the composed
+  /// radiance into `hdr`. Rows run as a oneTBB loop (call it inside the renderer's arena); each
+  /// pixel depends only on its inputs, so the result is the same on any number of threads.
+  void accumulate(const PinholeProjection& projection, int antialiasing, std::span<const PixelLayers> layers,
+                  Image& hdr) {
+    const std::size_t pixels = std::size_t(width_) * std::size_t(height_);
+    if (layers.size() != pixels || hdr.width != width_ || hdr.height != height_ ||
+        projection.width() != width_ || projection.height() != height_)
+      throw std::invalid_argument("TemporalReuse::accumulate: the frame's sizes differ from begin's");
+    float dx = 0.5f, dy = 0.5f;
+    subsample_offset(0, antialiasing, dx, dy);  // where each pixel's depth was measured
+    current_.assign(pixels, Sample{});
+    tbb::parallel_for(0, height_, [&](int y) {
+      for (int x = 0; x < width_; ++x) {
+        const std::size_t at = std::size_t(y) * std::size_t(width_) + std::size_t(x);
+        hdr.pixels[at] = pixel(projection, layers[at], x, y, dx, dy, current_[at]);
+      }
+    });
+    std::swap(previous_, current_);
+    has_previous_ = true;
+    previous_projection_.emplace(projection);
+  }
+
+  /// Frames averaged into pixel (x, y)'s irradiance by the last accumulate (0 where nothing was hit).
+  int history_length(int x, int y) const {
+    if (!has_previous_) return 0;
+    return previous_.at(std::size_t(y) * std::size_t(width_) + std::size_t(x)).length;
+  }
+  /// Frames before the current one with the same view and scene.
+  int still_frames() const noexcept { return still_; }
+  /// The longest history.
+  int frames() const noexcept { return frames_; }
+
+ private:
+  /// What a pixel's history keeps.
+  struct Sample {
+    glm::vec3 irradiance{0.0f};  ///< Average demodulated irradiance.
+    glm::vec3 glossy{0.0f};      ///< Average glossy radiance (this view's).
+    glm::vec3 rest{0.0f};        ///< Average unfiltered radiance (this view's).
+    glm::vec3 position{0.0f};    ///< World position of the first hit.
+    glm::vec3 normal{0.0f};      ///< Its shading normal.
+    int length = 0;              ///< Frames in the irradiance average; 0: no hit.
+  };
+
+  /// Whether previous sample `old` shows the surface at `position` with `normal`, `depth` from the eye.
+  static bool same_surface(const Sample& old, const glm::vec3& position, const glm::vec3& normal, float depth) noexcept {
+    return old.length > 0 && glm::dot(old.normal, normal) >= normal_agreement &&
+           std::abs(glm::dot(normal, old.position - position)) <= plane_tolerance * depth;
+  }
+
+  /// The irradiance history of a hit at `position` found in the previous frame by reprojection:
+  /// the bilinear mix of the neighbours that show the same surface (length 0 if none does).
+  Sample reproject(const glm::vec3& position, const glm::vec3& normal, float depth, float dx, float dy) const {
+    Sample found;
+    const std::optional<glm::vec2> seen = previous_projection_->project(position);
+    if (!seen) return found;
+    // Pixel (i, j)'s first hit was measured at (i + dx, j + dy).
+    const float u = seen->x - dx, v = seen->y - dy;
+    if (!(std::abs(u) < float(width_) + 1.0f && std::abs(v) < float(height_) + 1.0f)) return found;  // NaN too
+    const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
+    const float fx = u - float(x0), fy = v - float(y0);
+    float weight_sum = 0.0f, length_sum = 0.0f;
+    glm::vec3 irradiance(0.0f);
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) {
+        const int x = x0 + i, y = y0 + j;
+        if (x < 0 || y < 0 || x >= width_ || y >= height_) continue;
+        const Sample& old = previous_[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
+        if (!same_surface(old, position, normal, depth)) continue;
+        const float weight = (i ? fx : 1.0f - fx) * (j ? fy : 1.0f - fy);
+        weight_sum += weight;
+        length_sum += weight * float(old.length);
+        irradiance += weight * old.irradiance;
+      }
+    if (!(weight_sum > 0.0f)) return found;
+    found.irradiance = irradiance / weight_sum;
+    found.length = std::max(1, int(length_sum / weight_sum + 0.5f));
+    return found;
+  }
+
+  /// Pixel (x, y)'s new history `out` and radiance.
+  glm::vec3 pixel(const PinholeProjection& projection, const PixelLayers& layers, int x, int y, float dx, float dy,
+                  Sample& out) const {
+    const std::size_t at = std::size_t(y) * std::size_t(width_) + std::size_t(x);
+    // The view-dependent terms keep a history only while the camera stays (then each pixel is its own previous pixel).
+    const bool still = has_previous_ && !camera_moved_;
+    const Sample* same_pixel = still ? &previous_[at] : nullptr;
+    const int view_length = still ? std::min(still_ + 1, frames_) : 1;
+    const float view_weight = 1.0f / float(view_length);
+    out.rest = same_pixel ? same_pixel->rest + (layers.rest - same_pixel->rest) * view_weight : layers.rest;
+    if (!layers.hit) return out.rest;
+
+    out.position = projection.origin() + projection.direction(float(x) + dx, float(y) + dy) * layers.depth;
+    out.normal = layers.normal;
+    Sample history;
+    if (same_pixel)
+      history = *same_pixel;
+    else if (has_previous_)
+      history = reproject(out.position, out.normal, layers.depth, dx, dy);
+    const int cap = still ? frames_ : std::min(frames_, moving_frames);
+    out.length = std::min(history.length + 1, cap);
+    const float weight = 1.0f / float(out.length);
+    out.irradiance = history.length > 0 ? history.irradiance + (layers.irradiance - history.irradiance) * weight
+                                        : layers.irradiance;
+    out.glossy = same_pixel && same_pixel->length > 0
+                     ? same_pixel->glossy + (layers.glossy - same_pixel->glossy) * view_weight
+                     : layers.glossy;
+    PixelLayers averaged = layers;
+    averaged.irradiance = out.irradiance;
+    averaged.glossy = out.glossy;
+    averaged.rest = out.rest;
+    return averaged.radiance();
+  }
+
+  int frames_;
+  int width_ = 0;
+  int height_ = 0;
+  int still_ = 0;
+  bool camera_moved_ = true;
+  Camera previous_camera_;
+  bool has_previous_ = false;    ///< Whether previous_ holds the last frame's histories.
+  std::vector<Sample> previous_;  ///< The last frame's histories, row-major.
+  std::vector<Sample> current_;   ///< The frame being accumulated (kept to reuse its memory).
+  std::optional<PinholeProjection> previous_projection_;
+};
+
+}  // namespace igi
