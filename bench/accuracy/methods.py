@@ -1,5 +1,6 @@
 """Error against frame time of igi's ways past the paper's limits, one curve each, on the built-in
-Cornell box, the built-in window room (sun and sky through one window) and Sponza_lit:
+Cornell box, the built-in window room (sun and sky through one window), the same room with
+venetian blinds in its window (--builtin blinds: the sun in stripes) and Sponza_lit:
 
   qmc + discontinuity       the paper's VPLs and filter (the default)
   importance                view-importance VPLs (--vpl-sampler importance)
@@ -32,7 +33,7 @@ SIZE = "320x240"  # a quarter of the showcase's pixels keeps references affordab
 VPLS = [4, 8, 16, 32, 64]
 FRAMES = 3  # timed frames per run; the median is reported
 # Reference samples per pixel (in passes of 64): Sponza's paths are the costliest.
-REFERENCE_SPP = {"cornell": 1024, "window": 1024, "sponza_lit": 512}
+REFERENCE_SPP = {"cornell": 1024, "window": 1024, "blinds": 1024, "sponza_lit": 512}
 # (label, igi-render options, frames rendered: the last one is compared, their median timed)
 METHODS = [
     ("qmc + discontinuity", [], FRAMES),
@@ -71,7 +72,7 @@ def arguments_and_references(tool):
     scenes_dir = Path(sys.argv[4]) if len(sys.argv) > 4 else Path(__file__).resolve().parents[3] / "shared" / "scenes"
     work.mkdir(parents=True, exist_ok=True)
     out.mkdir(parents=True, exist_ok=True)
-    scenes = ["cornell", "window"]
+    scenes = ["cornell", "window", "blinds"]
     if (scenes_dir / "sponza" / "Sponza_lit.gltf").exists():
         scenes.append("sponza_lit")
     else:

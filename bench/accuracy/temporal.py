@@ -1,5 +1,5 @@
 """Error of temporal reuse against the frames it has averaged, on a still view of the built-in
-Cornell box, the built-in window room and Sponza_lit (320x240, 16 VPLs per pixel, 3x3, the
+Cornell box, the built-in window room, the room with blinds and Sponza_lit (320x240, 16 VPLs per pixel, 3x3, the
 discontinuity filter): frame F of igi-render --temporal H --frames F for H = 8 and 32 (and
 H = 32 with --vpl-sampler importance), compared with the path-traced references of methods.py
 (rendered here if WORK_DIR lacks them); relMSE is the mean over seeds 1-3. The curve of H = 32

@@ -48,17 +48,19 @@ double median(std::vector<double> values) {
 void add_scene_options(CommandLine& command_line, SceneOptions& scene) {
   command_line.add("scene", scene.scene_file, "glTF scene (.gltf or .glb)");
   command_line.add("--builtin", scene.builtin,
-                   "built-in scene instead of a file: cornell (the Cornell box) or window (a furnished room lit by the sun and sky through one window)")
-      .choices({"cornell", "window"});
+                   "built-in scene instead of a file: cornell (the Cornell box), window (a furnished room lit by the sun and sky through one window) or blinds (that room with venetian blinds in the window: the sun in stripes)")
+      .choices({"cornell", "window", "blinds"});
 }
 
 void check_scene_options(const SceneOptions& scene) {
-  if (scene.scene_file.empty() == scene.builtin.empty()) throw UsageError("give either a SCENE file or --builtin cornell|window");
+  if (scene.scene_file.empty() == scene.builtin.empty()) throw UsageError("give either a SCENE file or --builtin cornell|window|blinds");
 }
 
 Scene load_scene(const SceneOptions& scene) {
   if (scene.builtin.empty()) return load_gltf(scene.scene_file);
-  return scene.builtin == "window" ? window_room() : cornell_box();
+  if (scene.builtin == "window") return window_room();
+  if (scene.builtin == "blinds") return window_room_with_blinds();
+  return cornell_box();
 }
 
 void add_size_option(CommandLine& command_line, std::string& size) {
