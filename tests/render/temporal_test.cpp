@@ -287,4 +287,18 @@ TEST_CASE("temporal reuse: bad settings are refused with their name", "[render][
   s.temporal_frames = max_temporal_frames + 1;
   CHECK_THROWS_WITH(validate(s), Catch::Contains("temporal frames"));
   CHECK_THROWS_AS(TemporalReuse(0), SettingsError);
+  // A frame whose layers or image do not have the size begin() was given is refused, not read past.
+  TemporalReuse temporal(4);
+  const Scene scene = cornell_box();
+  temporal.begin(scene.cameras.front(), 8, 6, false);
+  const PinholeProjection projection(scene.cameras.front(), 8, 6);
+  std::vector<PixelLayers> layers(8 * 6);
+  Image hdr(8, 6);
+  CHECK_NOTHROW(temporal.accumulate(projection, 1, layers, hdr));
+  layers.pop_back();
+  CHECK_THROWS_AS(temporal.accumulate(projection, 1, layers, hdr), std::invalid_argument);
+  layers.emplace_back();
+  Image wrong(6, 8);
+  CHECK_THROWS_AS(temporal.accumulate(projection, 1, layers, wrong), std::invalid_argument);
+  CHECK_THROWS_AS(temporal.accumulate(PinholeProjection(scene.cameras.front(), 6, 8), 1, layers, hdr), std::invalid_argument);
 }
