@@ -42,6 +42,9 @@ struct FrameOptions {
   bool profile = false;      ///< Time each pipeline stage into the tiles' results.
   bool keep_layers = false;  ///< Tiles return their pixels' PixelLayers (what temporal reuse reads).
   float clamp_scale = 1.0f;  ///< Factor on the resolved clamp distance (temporal reuse shrinks it while the view stays still).
+  /// Where in its cell each sub-sample's primary ray passes (subsample_offset; the centre by
+  /// default; temporal reuse moves it from one still frame to the next, so they cover the pixel).
+  glm::vec2 pixel_jitter{0.5f};
 };
 
 /// One frame's shared, read-only inputs of the pipeline.
@@ -57,6 +60,7 @@ struct FrameState {
   std::uint32_t index = 0;                     ///< Frame index: what randomises the frame's samples.
   bool profile = false;                        ///< Time each stage into TileResult::stages (2-9% slower frames).
   bool keep_layers = false;                    ///< Tiles return their pixels' PixelLayers (TileResult::layers), for temporal reuse.
+  glm::vec2 pixel_jitter{0.5f};                ///< Where in its cell each sub-sample's primary ray passes (FrameOptions::pixel_jitter).
 
   /// Builds frame `index` of `scene` (committed in `backend`) seen by `camera`, to be tone mapped
   /// with `tone_mapping`: VPLs from `sampler`, whose walks shade their hits with the frame's own
@@ -86,6 +90,7 @@ struct FrameState {
     this->index = index;
     profile = false;
     keep_layers = false;
+    pixel_jitter = glm::vec2(0.5f);
   }
   /// True once prepare has run.
   bool prepared() const noexcept { return projection.has_value(); }

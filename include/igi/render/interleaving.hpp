@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 namespace igi {
 
 /// A rectangle of pixels, [x0, x1) x [y0, y1).
@@ -85,12 +87,13 @@ void make_set_packets(const PixelRect& region, int interleave, int set, std::vec
 }
 
 /// Position inside the pixel of anti-aliasing sub-sample `k` of `n`: a stratified grid of
-/// ceil(sqrt(n))^2 cells, cell k's centre (n = 1 gives the pixel centre).
-inline void subsample_offset(int k, int n, float& dx, float& dy) noexcept {
+/// ceil(sqrt(n))^2 cells, the point `within` of cell k (in [0, 1)^2; the default, the cell's
+/// centre, gives the pixel centre for n = 1).
+inline void subsample_offset(int k, int n, float& dx, float& dy, glm::vec2 within = glm::vec2(0.5f)) noexcept {
   int side = 1;
   while (side * side < n) ++side;
-  dx = (float(k % side) + 0.5f) / float(side);
-  dy = (float(k / side) + 0.5f) / float(side);
+  dx = (float(k % side) + within.x) / float(side);
+  dy = (float(k / side) + within.y) / float(side);
 }
 
 }  // namespace igi

@@ -220,7 +220,7 @@ class Pipeline {
       const StageTimer timer(work.timing(&StageTimes::primary));
       level.resize(work.pixels.size());
       float dx = 0.5f, dy = 0.5f;
-      subsample_offset(k, frame.settings.antialiasing, dx, dy);
+      subsample_offset(k, frame.settings.antialiasing, dx, dy, frame.pixel_jitter);
       const glm::vec3 eye = frame.projection->origin();
       for (std::size_t p = 0; p < work.pixels.size(); ++p) {
         const PixelPacket<W>& pixels = work.pixels[p];

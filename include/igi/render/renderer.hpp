@@ -111,7 +111,9 @@ class Renderer {
     FrameOptions options{.profile = profiling_};
     if (temporal_) {
       options.keep_layers = true;
-      options.clamp_scale = temporal_->begin(camera, settings.width, settings.height, scene_changed_);
+      const TemporalReuse::FrameRequest request = temporal_->begin(camera, settings.width, settings.height, scene_changed_);
+      options.clamp_scale = request.clamp_scale;
+      options.pixel_jitter = request.pixel_jitter;
       layers_.resize(std::size_t(settings.width) * std::size_t(settings.height));
     }
     scene_changed_ = false;

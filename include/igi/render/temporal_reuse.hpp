@@ -10,6 +10,14 @@
 /// camera stays where it was. A change of the scene (lights, instances, meshes) drops every
 /// history, so nothing lags behind a moving light or object.
 ///
+/// While the view stays still the primary rays move inside their pixels from frame to frame
+/// (pixel_jitter), and the albedo, glossy and unfiltered radiance are averaged with the
+/// irradiance, so a still image converges to the average over each pixel's area (textures and
+/// edges anti-aliased) rather than to its centre. A ray that misses where its pixel's earlier
+/// rays hit counts as black albedo and keeps the irradiance history of the surface they hit
+/// (irradiance is averaged over the hits, albedo over every frame: a pixel half covered by a
+/// surface gets half its albedo times its irradiance).
+///
 /// While the view stays still the clamp distance shrinks as c n^(-1/4) with the history length n
 /// (capped as n is): the average of frames then converges towards the unclamped image instead of
 /// freezing the clamp's bias. The exponent balances what is left: the bias the clamp leaves falls
@@ -34,6 +42,7 @@
 #include "igi/render/pixel_layers.hpp"
 #include "igi/render/settings.hpp"
 #include "igi/scene/camera.hpp"
+#include "igi/simd/sampling.hpp"
 
 namespace igi {
 
@@ -65,11 +74,25 @@ class TemporalReuse {
   static float clamp_scale(int still, int frames) noexcept {
     return std::pow(float(std::min(still + 1, frames)), -0.25f);
   }
+  /// Where the primary rays of a frame after `still` frames of the same view pass in their
+  /// sub-sample cells: the centre first (a frame after a move is the frame without reuse), then
+  /// the Halton points of bases 2 and 3 shifted by half a cell, so n still frames sample each
+  /// pixel at n stratified points.
+  static glm::vec2 pixel_jitter(int still) noexcept {
+    const auto shifted = [](float u) { return u < 0.5f ? u + 0.5f : u - 0.5f; };
+    return {shifted(radical_inverse(0, std::uint64_t(still))), shifted(radical_inverse(1, std::uint64_t(still)))};
+  }
+
+  /// What begin asks of the frame it starts.
+  struct FrameRequest {
+    float clamp_scale = 1.0f;       ///< Factor on the clamp distance (FrameOptions::clamp_scale).
+    glm::vec2 pixel_jitter{0.5f};   ///< Where the primary rays pass (FrameOptions::pixel_jitter).
+  };
 
   /// Starts a frame seen by `camera` at `width` x `height`; `scene_changed` says lights,
   /// instances or meshes changed since the previous frame (every history is dropped). Returns
-  /// the scale the frame's clamp distance is to be rendered with.
-  float begin(const Camera& camera, int width, int height, bool scene_changed) {
+  /// the clamp scale and ray positions the frame is to be rendered with.
+  FrameRequest begin(const Camera& camera, int width, int height, bool scene_changed) {
     const bool same_view = has_previous_ && !scene_changed && width == width_ && height == height_ &&
                            camera.camera_to_world == previous_camera_.camera_to_world &&
                            camera.yfov == previous_camera_.yfov;
@@ -79,7 +102,8 @@ class TemporalReuse {
     width_ = width;
     height_ = height;
     previous_camera_ = camera;
-    return clamp_scale(still_, frames_);
+    jitter_ = pixel_jitter(still_);
+    return {clamp_scale(still_, frames_), jitter_};
   }
 
   /// Averages the frame's `layers` (width x height of begin, row-major, seen through
@@ -92,18 +116,19 @@ class TemporalReuse {
     if (layers.size() != pixels || hdr.width != width_ || hdr.height != height_ ||
         projection.width() != width_ || projection.height() != height_)
       throw std::invalid_argument("TemporalReuse::accumulate: the frame's sizes differ from begin's");
-    float dx = 0.5f, dy = 0.5f;
-    subsample_offset(0, antialiasing, dx, dy);  // where each pixel's depth was measured
+    glm::vec2 measured;  // where in each pixel its depth was measured: sub-sample 0's ray
+    subsample_offset(0, antialiasing, measured.x, measured.y, jitter_);
     current_.assign(pixels, Sample{});
     tbb::parallel_for(0, height_, [&](int y) {
       for (int x = 0; x < width_; ++x) {
         const std::size_t at = std::size_t(y) * std::size_t(width_) + std::size_t(x);
-        hdr.pixels[at] = pixel(projection, layers[at], x, y, dx, dy, current_[at]);
+        hdr.pixels[at] = pixel(projection, layers[at], x, y, measured, current_[at]);
       }
     });
     std::swap(previous_, current_);
     has_previous_ = true;
     previous_projection_.emplace(projection);
+    previous_measured_ = measured;
   }
 
   /// Frames averaged into pixel (x, y)'s irradiance by the last accumulate (0 where nothing was hit).
@@ -120,7 +145,8 @@ class TemporalReuse {
   /// What a pixel's history keeps.
   struct Sample {
     glm::vec3 irradiance{0.0f};  ///< Average demodulated irradiance.
-    glm::vec3 glossy{0.0f};      ///< Average glossy radiance (this view's).
+    glm::vec3 glossy{0.0f};      ///< Average glossy radiance (this view's; 0 in frames that missed).
+    glm::vec3 albedo{0.0f};      ///< Average albedo (this view's; 0 in frames that missed).
     glm::vec3 rest{0.0f};        ///< Average unfiltered radiance (this view's).
     glm::vec3 position{0.0f};    ///< World position of the first hit.
     glm::vec3 normal{0.0f};      ///< Its shading normal.
@@ -135,12 +161,12 @@ class TemporalReuse {
 
   /// The irradiance history of a hit at `position` found in the previous frame by reprojection:
   /// the bilinear mix of the neighbours that show the same surface (length 0 if none does).
-  Sample reproject(const glm::vec3& position, const glm::vec3& normal, float depth, float dx, float dy) const {
+  Sample reproject(const glm::vec3& position, const glm::vec3& normal, float depth) const {
     Sample found;
     const std::optional<glm::vec2> seen = previous_projection_->project(position);
     if (!seen) return found;
-    // Pixel (i, j)'s first hit was measured at (i + dx, j + dy).
-    const float u = seen->x - dx, v = seen->y - dy;
+    // The previous frame measured pixel (i, j)'s first hit at (i, j) + previous_measured_.
+    const float u = seen->x - previous_measured_.x, v = seen->y - previous_measured_.y;
     if (!(std::abs(u) < float(width_) + 1.0f && std::abs(v) < float(height_) + 1.0f)) return found;  // NaN too
     const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
     const float fx = u - float(x0), fy = v - float(y0);
@@ -163,37 +189,45 @@ class TemporalReuse {
     return found;
   }
 
-  /// Pixel (x, y)'s new history `out` and radiance.
-  glm::vec3 pixel(const PinholeProjection& projection, const PixelLayers& layers, int x, int y, float dx, float dy,
+  /// Pixel (x, y)'s new history `out` and radiance; its first hit was measured at (x, y) + `measured`.
+  glm::vec3 pixel(const PinholeProjection& projection, const PixelLayers& layers, int x, int y, glm::vec2 measured,
                   Sample& out) const {
     const std::size_t at = std::size_t(y) * std::size_t(width_) + std::size_t(x);
     // The view-dependent terms keep a history only while the camera stays (then each pixel is its own previous pixel).
     const bool still = has_previous_ && !camera_moved_;
     const Sample* same_pixel = still ? &previous_[at] : nullptr;
-    const int view_length = still ? std::min(still_ + 1, frames_) : 1;
-    const float view_weight = 1.0f / float(view_length);
-    out.rest = same_pixel ? same_pixel->rest + (layers.rest - same_pixel->rest) * view_weight : layers.rest;
-    if (!layers.hit) return out.rest;
-
-    out.position = projection.origin() + projection.direction(float(x) + dx, float(y) + dy) * layers.depth;
-    out.normal = layers.normal;
-    Sample history;
-    if (same_pixel)
-      history = *same_pixel;
-    else if (has_previous_)
-      history = reproject(out.position, out.normal, layers.depth, dx, dy);
-    const int cap = still ? frames_ : std::min(frames_, moving_frames);
-    out.length = std::min(history.length + 1, cap);
-    const float weight = 1.0f / float(out.length);
-    out.irradiance = history.length > 0 ? history.irradiance + (layers.irradiance - history.irradiance) * weight
-                                        : layers.irradiance;
-    out.glossy = same_pixel && same_pixel->length > 0
-                     ? same_pixel->glossy + (layers.glossy - same_pixel->glossy) * view_weight
-                     : layers.glossy;
-    PixelLayers averaged = layers;
-    averaged.irradiance = out.irradiance;
-    averaged.glossy = out.glossy;
-    averaged.rest = out.rest;
+    const float view_weight = 1.0f / float(still ? std::min(still_ + 1, frames_) : 1);
+    const auto view_average = [&](const glm::vec3& old, const glm::vec3& now) {
+      return same_pixel ? old + (now - old) * view_weight : now;
+    };
+    const glm::vec3 black(0.0f);
+    out.rest = view_average(same_pixel ? same_pixel->rest : black, layers.rest);
+    out.albedo = view_average(same_pixel ? same_pixel->albedo : black, layers.hit ? layers.albedo : black);
+    out.glossy = view_average(same_pixel ? same_pixel->glossy : black, layers.hit ? layers.glossy : black);
+    if (layers.hit) {
+      out.position = projection.origin() +
+                     projection.direction(float(x) + measured.x, float(y) + measured.y) * layers.depth;
+      out.normal = layers.normal;
+      Sample history;
+      if (same_pixel)
+        history = *same_pixel;
+      else if (has_previous_)
+        history = reproject(out.position, out.normal, layers.depth);
+      const int cap = still ? frames_ : std::min(frames_, moving_frames);
+      out.length = std::min(history.length + 1, cap);
+      const float weight = 1.0f / float(out.length);
+      out.irradiance = history.length > 0 ? history.irradiance + (layers.irradiance - history.irradiance) * weight
+                                          : layers.irradiance;
+    } else if (same_pixel && same_pixel->length > 0) {
+      // A ray that missed where this pixel's earlier rays hit: their surface's history stays.
+      out.irradiance = same_pixel->irradiance;
+      out.length = same_pixel->length;
+      out.position = same_pixel->position;
+      out.normal = same_pixel->normal;
+    }
+    // Composed as the pipeline composes (a miss without history has albedo and glossy 0).
+    const PixelLayers averaged{.irradiance = out.irradiance, .glossy = out.glossy, .albedo = out.albedo,
+                               .rest = out.rest, .hit = true};
     return averaged.radiance();
   }
 
@@ -207,6 +241,8 @@ class TemporalReuse {
   std::vector<Sample> previous_;  ///< The last frame's histories, row-major.
   std::vector<Sample> current_;   ///< The frame being accumulated (kept to reuse its memory).
   std::optional<PinholeProjection> previous_projection_;
+  glm::vec2 jitter_{0.5f};            ///< The current frame's pixel_jitter.
+  glm::vec2 previous_measured_{0.5f}; ///< Where in its pixel the previous frame measured each first hit.
 };
 
 }  // namespace igi

@@ -99,7 +99,7 @@ class TileEngine {
 
   /// Prepares frame `index` as seen by `camera`: commits the scene changes, generates the frame's
   /// VPLs and sets up the FrameState every tile reads, tone mapped with `tone_mapping`, with what
-  /// `options` asks (stage timing, the tiles' PixelLayers, a scaled clamp).
+  /// `options` asks (stage timing, the tiles' PixelLayers, a scaled clamp, moved primary rays).
   void begin_frame(const Camera& camera, std::uint32_t index, const ToneMapping& tone_mapping,
                    const FrameOptions& options = {}) {
     if (dirty_) {
@@ -110,6 +110,7 @@ class TileEngine {
                    tone_mapping, options.clamp_scale);
     frame_.profile = options.profile;
     frame_.keep_layers = options.keep_layers;
+    frame_.pixel_jitter = options.pixel_jitter;
   }
 
   /// Runs `work` inside this engine's threads (its task arena), so oneTBB loops in it use the
