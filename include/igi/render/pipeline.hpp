@@ -149,6 +149,7 @@ class Pipeline {
     int pixels = 0;                 ///< Index of the primary PixelPacket whose lanes these are.
     SurfaceHit<W> surface;          ///< Hit points.
     BrdfParameters<W> parameters;   ///< Surface shader output.
+    VplReceiver<W> receiver;        ///< The shading frame every VPL shares, resolved after the surface shader.
     VplAccumulator<W> light;        ///< VPL light gathered.
   };
 
@@ -300,7 +301,7 @@ class Pipeline {
             occluded = backend_->occluded(shadow, Coherence::coherent, geometry.reaches);
           }
           counts.shadow += std::uint64_t(popcount(geometry.reaches));
-          brdf_->add_vpl(packet.surface, packet.parameters, geometry, intensity, packet.light, geometry.reaches & !occluded);
+          add_vpl(packet, geometry, intensity, packet.light, geometry.reaches & !occluded);
         }
       }
     }
@@ -316,7 +317,7 @@ class Pipeline {
   void play_roulette(const FrameState& frame, std::uint32_t vpl_index, StreamPacket& packet, const VplGeometry<W>& geometry,
                      const glm::vec3& intensity, RayPacket<W>& shadow, Workspace& work, RayCounts& counts) const {
     VplAccumulator<W> light;
-    brdf_->add_vpl(packet.surface, packet.parameters, geometry, intensity, light, geometry.reaches);
+    add_vpl(packet, geometry, intensity, light, geometry.reaches);
     const auto size = [](const VplAccumulator<W>& a) {
       const vec3<W> sum = a.irradiance + a.glossy * vfloat<W>(std::numbers::pi_v<float>);
       return sum.x + sum.y + sum.z;
@@ -377,7 +378,7 @@ class Pipeline {
           child.pixels = packet.pixels;
           child.active = packet.hit & packet.parameters.opaque;
           if (none(child.active)) continue;
-          const vec3<W> normal = shading_frame_normal(packet.surface, packet.parameters);
+          const vec3<W>& normal = packet.receiver.normal;
           const vuint<W> pixel = pixel_indices(work.pixels[std::size_t(packet.pixels)], frame.settings.width);
           vec3<W> direction;
           for (int i = 0; i < W; ++i) {
@@ -447,6 +448,17 @@ class Pipeline {
       packet.parameters.assign(parameters, again);
       if (layer + 1 == max_cutout_layers) packet.hit &= packet.parameters.opaque;  // give up: treat as opaque miss
     }
+    packet.receiver = make_vpl_receiver(packet.surface, packet.parameters);
+  }
+
+  /// The BRDF shader's contribution of one VPL to `packet`'s lanes of `mask`, through the
+  /// packet's resolved receiver where the shader takes one.
+  void add_vpl(const StreamPacket& packet, const VplGeometry<W>& geometry, const glm::vec3& intensity,
+               VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
+    if constexpr (ReceiverBrdfShader<Brdf, W>)
+      brdf_->add_vpl(packet.receiver, packet.parameters, geometry, intensity, accumulator, mask);
+    else
+      brdf_->add_vpl(packet.surface, packet.parameters, geometry, intensity, accumulator, mask);
   }
 
   /// Step 5: the BRDF shader's reflection and refraction rays of level `depth` become level depth+1.
