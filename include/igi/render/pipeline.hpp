@@ -526,7 +526,7 @@ class Pipeline {
     const std::size_t n = std::size_t(tile.width()) * std::size_t(tile.height());
     out.hdr.resize(n);
     out.rgb8.resize(n);
-    out.luminance = {};
+    LuminanceAccumulator luminance;
     const int border = tile.x0 - extended.x0;
     for (int y = 0; y < tile.height(); ++y)
       for (int x = 0; x < tile.width(); ++x) {
@@ -536,9 +536,10 @@ class Pipeline {
         if (g.hit[at])
           radiance += g.albedo[at] * filtered.irradiance[inner] * inv_pi + filtered.glossy[inner];
         out.hdr[inner] = radiance;
-        out.luminance.add(radiance);
+        luminance.add(radiance);
         out.rgb8[inner] = quantize_srgb(frame.tone_mapping.apply(radiance));
       }
+    out.luminance = luminance.statistics();
   }
 
   /// Row-major image index y x width + x of each lane's pixel, 0 on lanes past the packet's count:
