@@ -597,8 +597,10 @@ TEST_CASE("BRDF: a VPL receiver holds the packet's resolved shading frame and lo
 
 TEMPLATE_TEST_CASE("BRDF: add_vpl on a receiver adds what add_vpl on the unresolved hit adds", "[shading][brdf]",
                    IGI_ALL_BRDF_SHADERS) {
-  STATIC_REQUIRE(ReceiverBrdfShader<TestType, 1>);
-  STATIC_REQUIRE(ReceiverBrdfShader<TestType, 16>);
+  // igi's own shaders all have the receiver form, so the pipeline skips their per-VPL frame.
+  if constexpr (std::is_same_v<TestType, LambertBrdf> || std::is_same_v<TestType, PhongBrdf> ||
+                std::is_same_v<TestType, StandardBrdf>)
+    STATIC_REQUIRE(ReceiverBrdfShader<TestType, 16>);
   const TestType brdf{};
   SurfaceHit<16> hit;
   BrdfParameters<16> p;
@@ -608,16 +610,20 @@ TEMPLATE_TEST_CASE("BRDF: add_vpl on a receiver adds what add_vpl on the unresol
                          Vpl{.position = {-0.5f, 0.4f, 0.2f}, .normal = glm::normalize(glm::vec3(0.5f, -1, 0)), .intensity = {3, 1, 1}, .radius = 0.2f}}) {
     const VplGeometry<16> g = connect(vpl, hit.position, hit.geometric_normal, 0.1f, all);
     REQUIRE(popcount(g.reaches) > 8);  // the comparison below sees most lanes
-    VplAccumulator<16> from_hit, from_receiver;
+    VplAccumulator<16> from_hit;
     brdf.add_vpl(hit, p, g, vpl.intensity, from_hit, g.reaches);
-    brdf.add_vpl(make_vpl_receiver(hit, p), p, g, vpl.intensity, from_receiver, g.reaches);
-    for (int i = 0; i < 16; ++i) {
-      INFO(TestType::name() << ", lane " << i);
-      // Both forms run the same operations; only fused multiply-adds the compiler may contract
-      // differently in the two call sites separate them: 1e-6 relative.
-      constexpr float tolerance = 1e-6f;
-      CHECK(relative_distance(from_receiver.irradiance[i], from_hit.irradiance[i]) <= tolerance);
-      CHECK(relative_distance(from_receiver.glossy[i], from_hit.glossy[i]) <= tolerance);
+    // The receiver form is optional (the pipeline calls the hit form of shaders without one).
+    if constexpr (ReceiverBrdfShader<TestType, 16>) {
+      VplAccumulator<16> from_receiver;
+      brdf.add_vpl(make_vpl_receiver(hit, p), p, g, vpl.intensity, from_receiver, g.reaches);
+      for (int i = 0; i < 16; ++i) {
+        INFO(TestType::name() << ", lane " << i);
+        // Both forms run the same operations; only fused multiply-adds the compiler may contract
+        // differently in the two call sites separate them: 1e-6 relative.
+        constexpr float tolerance = 1e-6f;
+        CHECK(relative_distance(from_receiver.irradiance[i], from_hit.irradiance[i]) <= tolerance);
+        CHECK(relative_distance(from_receiver.glossy[i], from_hit.glossy[i]) <= tolerance);
+      }
     }
     // The hit form resolves the spoiled normals itself: lane 3's long normal gathers what its
     // unit normal gathers, and the zero, NaN and back-facing ones what the geometric normal does.
