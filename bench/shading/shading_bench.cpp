@@ -162,12 +162,17 @@ std::map<std::string, double>& single_ray_rates() {
 
 /// One pass of the pipeline's VPL step over all hit points: for each (tile, set) stream, for each
 /// of the set's VPLs, for each packet: connect, shadow ray (if `shadows`), BRDF contribution.
+/// Each packet's shading frame is resolved once for all its VPLs, as the pipeline does after the
+/// surface shader (timed here with the rest).
 template <class B>
 void shade_all(const ShadingPoints<B>& points, const FrameState& context, const StandardBrdf& brdf, bool shadows,
-               std::vector<VplAccumulator<B::width>>& light) {
+               std::vector<VplAccumulator<B::width>>& light, std::vector<VplReceiver<B::width>>& receivers) {
   constexpr int W = B::width;
   for (const auto& group : points.groups) {
     light.assign(group.end - group.begin, VplAccumulator<W>{});
+    receivers.resize(group.end - group.begin);
+    for (std::size_t p = group.begin; p < group.end; ++p)
+      receivers[p - group.begin] = make_vpl_receiver(points.surfaces[p], points.parameters[p]);
     for (const Vpl& vpl : context.vpls.sets[std::size_t(group.set)]) {
       for (std::size_t p = group.begin; p < group.end; ++p) {
         const SurfaceHit<W>& surface = points.surfaces[p];
@@ -184,7 +189,7 @@ void shade_all(const ShadingPoints<B>& points, const FrameState& context, const 
           shadow.set(origin, geometry.wi, vfloat<W>(0.0f), length, geometry.reaches);
           visible &= !points.backend->occluded(shadow, geometry.reaches);
         }
-        brdf.add_vpl(surface, points.parameters[p], geometry, vpl.intensity, light[p - group.begin], visible);
+        brdf.add_vpl(receivers[p - group.begin], points.parameters[p], geometry, vpl.intensity, light[p - group.begin], visible);
       }
     }
     benchmark::DoNotOptimize(light.data());
@@ -204,8 +209,9 @@ void shading(benchmark::State& state, const std::string& scene_name, bool shadow
   const ShadingPoints<B>& points = points_for<B>(scene_name, *scene_frame);
   const StandardBrdf brdf;
   std::vector<VplAccumulator<B::width>> light;
+  std::vector<VplReceiver<B::width>> receivers;
   const double start = thread_cpu_seconds();
-  for (auto _ : state) shade_all(points, scene_frame->frame, brdf, shadows, light);
+  for (auto _ : state) shade_all(points, scene_frame->frame, brdf, shadows, light, receivers);
   const double seconds = thread_cpu_seconds() - start;
   state.SetItemsProcessed(state.iterations() * points.samples);
   state.counters["hit_points"] = double(points.hit_points);

@@ -165,6 +165,31 @@ TEST_CASE("image: the table quantizer equals the transfer function on every samp
   CHECK(mismatches == 0);
 }
 
+TEST_CASE("image: the bucket quantizer gives every float from 2^-16 to 1 the code the thresholds give", "[io][image]") {
+  // Each bucket holds at most one threshold above its start (what one comparison relies on).
+  const image_detail::QuantizeBuckets& buckets = image_detail::quantize_buckets();
+  const std::array<float, 255>& thresholds = image_detail::quantize_thresholds();
+  int crowded = 0;
+  for (std::size_t i = 0; i < image_detail::QuantizeBuckets::count; ++i) {
+    const std::uint32_t start = image_detail::QuantizeBuckets::first_bits + (std::uint32_t(i) << image_detail::QuantizeBuckets::shift);
+    const float end = std::bit_cast<float>(start + (1u << image_detail::QuantizeBuckets::shift));  // the next bucket's start
+    const std::size_t code = buckets.code[i];
+    crowded += code + 1 < 255 && thresholds[code + 1] < end;
+  }
+  CHECK(crowded == 0);
+  // Every float in turn, its code the number of thresholds at or below it (the definition the
+  // table of thresholds encodes); below 2^-16 every code is 0.
+  CHECK(quantize(std::bit_cast<float>(std::bit_cast<std::uint32_t>(0x1p-16f) - 1)) == 0);
+  std::int64_t mismatches = 0;
+  std::size_t code = 0;
+  for (std::uint32_t bits = std::bit_cast<std::uint32_t>(0x1p-16f); bits <= std::bit_cast<std::uint32_t>(1.0f); ++bits) {
+    const float linear = std::bit_cast<float>(bits);
+    while (code < 255 && thresholds[code] <= linear) ++code;
+    mismatches += quantize(linear) != code;
+  }
+  CHECK(mismatches == 0);
+}
+
 TEST_CASE("image: construction, access and quantizing a whole image", "[io][image]") {
   Image image(3, 2, glm::vec3(0.25f));
   CHECK(image.pixels.size() == 6);

@@ -1,4 +1,6 @@
 // Tiles, interleaving sets and the per-set packet grouping of the paper's Figure 2.
+#include <cmath>
+#include <limits>
 #include <set>
 #include <utility>
 
@@ -6,6 +8,7 @@
 
 #include "igi/render/interleaving.hpp"
 #include "igi/render/tone_mapping.hpp"
+#include "igi/simd/sampling.hpp"
 
 using namespace igi;
 
@@ -91,4 +94,45 @@ TEST_CASE("tone mapping maps the log-average luminance to the key", "[render][to
   CHECK(quantize_srgb(glm::vec3(0.0f)) == glm::u8vec3(0));
   // sRGB of 0.5 linear is 0.7354 -> 188.
   CHECK(int(quantize_srgb(glm::vec3(0.5f)).r) == 188);
+}
+
+TEST_CASE("the luminance accumulator records what per-pixel statistics record, with one logarithm", "[render][tone]") {
+  // A tile's worth of pixels over the whole range luminances take: black, dim, bright, a sun
+  // disc near float's largest, and the values add() ignores (negative, NaN, infinite).
+  Rng rng(7);
+  LuminanceStatistics per_pixel;
+  LuminanceAccumulator accumulated;
+  double magnitudes = 0.0;  // sum of |log(delta + luminance)| over the counted pixels
+  const float nan = std::numeric_limits<float>::quiet_NaN(), infinity = std::numeric_limits<float>::infinity();
+  for (int i = 0; i < 20000; ++i) {
+    glm::vec3 rgb(rng.next(), rng.next(), rng.next());
+    rgb *= std::exp2(60.0f * rng.next() - 40.0f);  // 2^-40 .. 2^20
+    if (i % 97 == 0) rgb = glm::vec3(0.0f);
+    if (i % 101 == 0) rgb = glm::vec3(1e38f, 2e38f, 1e38f);
+    if (i % 103 == 0) rgb = glm::vec3(-1.0f, 0.0f, 0.0f);
+    if (i % 107 == 0) rgb = glm::vec3(nan, 1.0f, 1.0f);
+    if (i % 109 == 0) rgb = glm::vec3(infinity);
+    per_pixel.add(rgb);
+    accumulated.add(rgb);
+    const float y = luminance(rgb);
+    if (std::isfinite(y) && y >= 0.0f) magnitudes += std::abs(std::log(LuminanceStatistics::delta + double(y)));
+  }
+  const LuminanceStatistics statistics = accumulated.statistics();
+  CHECK(statistics.count == per_pixel.count);
+  CHECK(statistics.count < 20000);  // the ignored values were ignored
+  CHECK(statistics.max_luminance == per_pixel.max_luminance);
+  // Summing n terms rounds by at most n x 2^-53 x (the sum of their magnitudes) (the textbook
+  // bound of recursive summation), which covers both the per-pixel sum and the accumulator's
+  // product (2^-53 per factor) and exponent sum; twice it bounds their difference.
+  const double unit_roundoff = std::numeric_limits<double>::epsilon() / 2.0;
+  const double bound = 2.0 * double(per_pixel.count) * unit_roundoff * (magnitudes + double(per_pixel.count));
+  CHECK(std::abs(statistics.log_sum - per_pixel.log_sum) <= bound);
+  // Which the tone mapping, rounding its parameters to float, cannot see.
+  const ToneMapping a = ToneMapping::from(statistics), b = ToneMapping::from(per_pixel);
+  CHECK(a.scale == b.scale);
+  CHECK(a.white == b.white);
+  // Nothing counted: the empty statistics.
+  const LuminanceStatistics empty = LuminanceAccumulator().statistics();
+  CHECK(empty.count == 0);
+  CHECK(empty.log_sum == 0.0);
 }

@@ -549,3 +549,94 @@ TEST_CASE("BRDF: a VPL spread over a sphere widens the glossy lobe and keeps it 
         Approx((exponent + 2.0f) / (2.0f * std::numbers::pi_v<float>) * std::pow(cos_off, exponent) * cos_off).epsilon(1e-4));
   CHECK(glossy_from(off, 0.0f) < 1e-3f * glossy_from(off, 0.3f));
 }
+
+namespace {
+
+/// Lane `i` of a packet of 16 as fill_lane writes it, with the surface shader's normal spoiled
+/// on some lanes the way the shading frame must repair: zero, NaN, three times too long, facing
+/// away from wo; and no glossy reflectance on one.
+void fill_spoiled_lanes(SurfaceHit<16>& hit, BrdfParameters<16>& p) {
+  for (int i = 0; i < 16; ++i) fill_lane(hit, p, i, i);
+  p.normal.set(1, glm::vec3(0.0f));
+  p.normal.set(2, glm::vec3(std::numeric_limits<float>::quiet_NaN()));
+  p.normal.set(3, p.normal[3] * 3.0f);
+  p.normal.set(4, -hit.wo[4]);
+  p.glossy.set(5, glm::vec3(0.0f));
+}
+
+}  // namespace
+
+TEST_CASE("BRDF: a VPL receiver holds the packet's resolved shading frame and lobe axis", "[shading][brdf]") {
+  SurfaceHit<16> hit;
+  BrdfParameters<16> p;
+  fill_spoiled_lanes(hit, p);
+  const VplReceiver<16> receiver = make_vpl_receiver(hit, p);
+  const vec3<16> resolved = shading_frame_normal(hit, p);
+  for (int i = 0; i < 16; ++i) {
+    INFO("lane " << i);
+    const glm::vec3 n = receiver.normal[i];
+    CHECK(n == resolved[i]);
+    // Unit up to float rounding of a normalisation.
+    CHECK(glm::length(n) == Approx(1.0f).epsilon(1e-6));
+    CHECK(glm::dot(n, hit.wo[i]) > 0.0f);
+    // The mirror direction by hand: 2 (n.wo) n - wo, unit since n and wo are; 1e-6 for rounding.
+    const glm::vec3 axis = 2.0f * glm::dot(n, hit.wo[i]) * n - hit.wo[i];
+    CHECK(glm::length(receiver.lobe_axis[i] - axis) <= 1e-6f);
+    CHECK(receiver.half_shininess[i] == 0.5f * p.shininess[i]);
+    CHECK(receiver.glossy[i] == (p.opaque[i] && i != 5));
+  }
+  // Lanes 1, 2 and 4 fall back to the geometric normal, lane 3 is normalised.
+  for (const int i : {1, 2, 4}) CHECK(receiver.normal[i] == hit.geometric_normal[i]);
+  CHECK(glm::length(receiver.normal[3] - glm::normalize(p.normal[3] / 3.0f)) <= 1e-6f);
+  // Without glossy lanes the lobe's parts stay zero: nothing reads them.
+  p.glossy = vec3<16>();
+  const VplReceiver<16> matte = make_vpl_receiver(hit, p);
+  CHECK(none(matte.glossy));
+  CHECK(reduce_add(matte.lobe_axis) == glm::vec3(0.0f));
+}
+
+TEMPLATE_TEST_CASE("BRDF: add_vpl on a receiver adds what add_vpl on the unresolved hit adds", "[shading][brdf]",
+                   IGI_ALL_BRDF_SHADERS) {
+  // igi's own shaders all have the receiver form, so the pipeline skips their per-VPL frame.
+  if constexpr (std::is_same_v<TestType, LambertBrdf> || std::is_same_v<TestType, PhongBrdf> ||
+                std::is_same_v<TestType, StandardBrdf>)
+    STATIC_REQUIRE(ReceiverBrdfShader<TestType, 16>);
+  const TestType brdf{};
+  SurfaceHit<16> hit;
+  BrdfParameters<16> p;
+  fill_spoiled_lanes(hit, p);
+  const vmask<16> all(true);
+  for (const Vpl& vpl : {Vpl{.position = {0.3f, 1.2f, -0.4f}, .normal = glm::normalize(glm::vec3(0.2f, -1, 0.1f)), .intensity = {1, 2, 3}},
+                         Vpl{.position = {-0.5f, 0.4f, 0.2f}, .normal = glm::normalize(glm::vec3(0.5f, -1, 0)), .intensity = {3, 1, 1}, .radius = 0.2f}}) {
+    const VplGeometry<16> g = connect(vpl, hit.position, hit.geometric_normal, 0.1f, all);
+    REQUIRE(popcount(g.reaches) > 8);  // the comparison below sees most lanes
+    VplAccumulator<16> from_hit;
+    brdf.add_vpl(hit, p, g, vpl.intensity, from_hit, g.reaches);
+    // The receiver form is optional (the pipeline calls the hit form of shaders without one).
+    if constexpr (ReceiverBrdfShader<TestType, 16>) {
+      VplAccumulator<16> from_receiver;
+      brdf.add_vpl(make_vpl_receiver(hit, p), p, g, vpl.intensity, from_receiver, g.reaches);
+      for (int i = 0; i < 16; ++i) {
+        INFO(TestType::name() << ", lane " << i);
+        // Both forms run the same operations; only fused multiply-adds the compiler may contract
+        // differently in the two call sites separate them: 1e-6 relative.
+        constexpr float tolerance = 1e-6f;
+        CHECK(relative_distance(from_receiver.irradiance[i], from_hit.irradiance[i]) <= tolerance);
+        CHECK(relative_distance(from_receiver.glossy[i], from_hit.glossy[i]) <= tolerance);
+      }
+    }
+    // The hit form resolves the spoiled normals itself: lane 3's long normal gathers what its
+    // unit normal gathers, and the zero, NaN and back-facing ones what the geometric normal does.
+    BrdfParameters<16> repaired = p;
+    repaired.normal.set(3, glm::normalize(p.normal[3]));
+    for (const int i : {1, 2, 4}) repaired.normal.set(i, hit.geometric_normal[i]);
+    VplAccumulator<16> from_repaired;
+    brdf.add_vpl(hit, repaired, g, vpl.intensity, from_repaired, g.reaches);
+    for (const int i : {1, 2, 3, 4}) {
+      INFO(TestType::name() << ", spoiled lane " << i);
+      constexpr float tolerance = 1e-6f;  // the same operations on one normal, normalised once or twice
+      CHECK(relative_distance(from_hit.irradiance[i], from_repaired.irradiance[i]) <= tolerance);
+      CHECK(relative_distance(from_hit.glossy[i], from_repaired.glossy[i]) <= tolerance);
+    }
+  }
+}

@@ -8,6 +8,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -71,16 +72,55 @@ inline const std::array<float, 255>& quantize_thresholds() noexcept {
 }
 }  // namespace image_detail
 
+namespace image_detail {
+/// A direct index into the codes of `quantize_thresholds`: the floats of [2^-13, 1) cut into
+/// buckets by their exponent and the top 7 bits of their mantissa (1664 buckets). Below 2^-13 every
+/// code is 0 (code 1 starts at 1.5e-4). A bucket spans at most 2^-7 of its values, and the sRGB
+/// curve climbs at most 255 x 1.055 / 2.4 = 112 codes per unit of ln(linear) (at 1; less below,
+/// and the linear segment, code = 3295 x linear, climbs at most 10.3 at its top), so a bucket
+/// holds at most 0.88 codes' worth: at most one threshold, which one comparison finds.
+struct QuantizeBuckets {
+  /// Bit pattern of 2^-13, where the buckets start.
+  static constexpr std::uint32_t first_bits = 0x39000000u;
+  /// Mantissa bits below the bucket index (23 - 7).
+  static constexpr int shift = 16;
+  /// Buckets: 13 binary octaves of 2^7 each.
+  static constexpr std::size_t count = 13u << 7;
+  std::array<std::uint8_t, count> code{};  ///< Code of each bucket's smallest float.
+  std::array<float, 256> next{};           ///< Entry c: where code c + 1 starts (infinity for c = 255).
+};
+
+/// The buckets of `QuantizeBuckets`, built once from `quantize_thresholds`.
+inline const QuantizeBuckets& quantize_buckets() noexcept {
+  static const QuantizeBuckets buckets = [] {
+    QuantizeBuckets b;
+    const std::array<float, 255>& thresholds = quantize_thresholds();
+    for (std::size_t c = 0; c < 255; ++c) b.next[c] = thresholds[c];
+    b.next[255] = std::numeric_limits<float>::infinity();
+    std::size_t code = 0;
+    for (std::size_t i = 0; i < QuantizeBuckets::count; ++i) {
+      const float start = std::bit_cast<float>(QuantizeBuckets::first_bits + (std::uint32_t(i) << QuantizeBuckets::shift));
+      while (code < 255 && thresholds[code] <= start) ++code;
+      b.code[i] = static_cast<std::uint8_t>(code);
+    }
+    return b;
+  }();
+  return buckets;
+}
+}  // namespace image_detail
+
 /// Linear value -> 8-bit sRGB code, rounded to nearest (values outside [0, 1] clamp, NaN -> 0).
-/// Equal to `quantize_direct` for every float, without a `pow` per call: the code is the number
-/// of thresholds at or below the value, found in eight halving steps.
+/// Equal to `quantize_direct` for every float, without a `pow` per call: the value's bucket gives
+/// the code of the bucket's start, one comparison with the next code's threshold the rest.
 inline std::uint8_t quantize(float linear) noexcept {
-  if (!(linear > 0.0f)) return 0;  // negative, zero and NaN
-  const std::array<float, 255>& thresholds = image_detail::quantize_thresholds();
-  int code = 0;
-  for (int step = 128; step > 0; step /= 2)
-    if (code + step <= 255 && thresholds[static_cast<std::size_t>(code + step - 1)] <= linear) code += step;
-  return static_cast<std::uint8_t>(code);
+  const image_detail::QuantizeBuckets& buckets = image_detail::quantize_buckets();
+  // Negative, zero, NaN and everything below the first bucket (all code 0).
+  if (!(linear >= std::bit_cast<float>(image_detail::QuantizeBuckets::first_bits))) return 0;
+  if (linear >= 1.0f) return 255;
+  const std::uint32_t bucket =
+      (std::bit_cast<std::uint32_t>(linear) - image_detail::QuantizeBuckets::first_bits) >> image_detail::QuantizeBuckets::shift;
+  const std::uint8_t code = buckets.code[bucket];
+  return static_cast<std::uint8_t>(code + (linear >= buckets.next[code] ? 1 : 0));
 }
 
 /// 8-bit sRGB code -> linear value (the exact inverse of `quantize` on codes).

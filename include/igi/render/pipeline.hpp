@@ -151,6 +151,7 @@ class Pipeline {
     int pixels = 0;                 ///< Index of the primary PixelPacket whose lanes these are.
     SurfaceHit<W> surface;          ///< Hit points.
     BrdfParameters<W> parameters;   ///< Surface shader output.
+    VplReceiver<W> receiver;        ///< The shading frame every VPL shares, resolved after the surface shader.
     VplAccumulator<W> light;        ///< VPL light gathered.
   };
 
@@ -302,7 +303,7 @@ class Pipeline {
             occluded = backend_->occluded(shadow, Coherence::coherent, geometry.reaches);
           }
           counts.shadow += std::uint64_t(popcount(geometry.reaches));
-          brdf_->add_vpl(packet.surface, packet.parameters, geometry, intensity, packet.light, geometry.reaches & !occluded);
+          add_vpl(packet, geometry, intensity, packet.light, geometry.reaches & !occluded);
         }
       }
     }
@@ -318,7 +319,7 @@ class Pipeline {
   void play_roulette(const FrameState& frame, std::uint32_t vpl_index, StreamPacket& packet, const VplGeometry<W>& geometry,
                      const glm::vec3& intensity, RayPacket<W>& shadow, Workspace& work, RayCounts& counts) const {
     VplAccumulator<W> light;
-    brdf_->add_vpl(packet.surface, packet.parameters, geometry, intensity, light, geometry.reaches);
+    add_vpl(packet, geometry, intensity, light, geometry.reaches);
     const auto size = [](const VplAccumulator<W>& a) {
       const vec3<W> sum = a.irradiance + a.glossy * vfloat<W>(std::numbers::pi_v<float>);
       return sum.x + sum.y + sum.z;
@@ -379,7 +380,7 @@ class Pipeline {
           child.pixels = packet.pixels;
           child.active = packet.hit & packet.parameters.opaque;
           if (none(child.active)) continue;
-          const vec3<W> normal = shading_frame_normal(packet.surface, packet.parameters);
+          const vec3<W>& normal = packet.receiver.normal;
           const vuint<W> pixel = pixel_indices(work.pixels[std::size_t(packet.pixels)], frame.settings.width);
           vec3<W> direction;
           for (int i = 0; i < W; ++i) {
@@ -449,6 +450,17 @@ class Pipeline {
       packet.parameters.assign(parameters, again);
       if (layer + 1 == max_cutout_layers) packet.hit &= packet.parameters.opaque;  // give up: treat as opaque miss
     }
+    packet.receiver = make_vpl_receiver(packet.surface, packet.parameters);
+  }
+
+  /// The BRDF shader's contribution of one VPL to `packet`'s lanes of `mask`, through the
+  /// packet's resolved receiver where the shader takes one.
+  void add_vpl(const StreamPacket& packet, const VplGeometry<W>& geometry, const glm::vec3& intensity,
+               VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
+    if constexpr (ReceiverBrdfShader<Brdf, W>)
+      brdf_->add_vpl(packet.receiver, packet.parameters, geometry, intensity, accumulator, mask);
+    else
+      brdf_->add_vpl(packet.surface, packet.parameters, geometry, intensity, accumulator, mask);
   }
 
   /// Step 5: the BRDF shader's reflection and refraction rays of level `depth` become level depth+1.
@@ -517,7 +529,7 @@ class Pipeline {
     out.hdr.resize(n);
     out.rgb8.resize(n);
     out.layers.resize(frame.keep_layers ? n : 0);
-    out.luminance = {};
+    LuminanceAccumulator luminance;
     const int border = tile.x0 - extended.x0;
     for (int y = 0; y < tile.height(); ++y)
       for (int x = 0; x < tile.width(); ++x) {
@@ -533,9 +545,10 @@ class Pipeline {
         const glm::vec3 radiance = layers.radiance();
         if (frame.keep_layers) out.layers[inner] = layers;
         out.hdr[inner] = radiance;
-        out.luminance.add(radiance);
+        luminance.add(radiance);
         out.rgb8[inner] = quantize_srgb(frame.tone_mapping.apply(radiance));
       }
+    out.luminance = luminance.statistics();
   }
 
   /// Row-major image index y x width + x of each lane's pixel, 0 on lanes past the packet's count:

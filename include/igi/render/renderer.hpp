@@ -185,7 +185,7 @@ class Renderer {
   /// its luminance statistics and RGB8 image by the average's.
   void reuse_history(Frame& frame) {
     LuminanceStatistics& luminance = frame.statistics.luminance;
-    std::vector<LuminanceStatistics> rows(std::size_t(frame.height));
+    std::vector<LuminanceAccumulator> rows(std::size_t(frame.height));
     engine_.execute([&] {
       temporal_->accumulate(*engine_.frame().projection, engine_.settings().antialiasing, layers_, frame.hdr);
       tbb::parallel_for(0, frame.height, [&](int y) {
@@ -196,7 +196,7 @@ class Renderer {
       });
     });
     luminance = {};
-    for (const LuminanceStatistics& row : rows) luminance.merge(row);  // in row order: the same sums on any thread count
+    for (const LuminanceAccumulator& row : rows) luminance.merge(row.statistics());  // in row order: the same sums on any thread count
   }
 
   Engine engine_;

@@ -5,8 +5,10 @@
 /// tiles be tone mapped where they are rendered).
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 
 #include <glm/glm.hpp>
 
@@ -39,6 +41,47 @@ struct LuminanceStatistics {
   }
   /// Log-average luminance (0 if nothing was counted).
   double log_average() const noexcept { return count ? std::exp(log_sum / double(count)) - delta : 0.0; }
+};
+
+/// Records many pixels into LuminanceStatistics as LuminanceStatistics::add does, with one
+/// logarithm in all instead of one per pixel: the terms delta + luminance are multiplied in
+/// double, the product's binary exponent taken out after each so it stays in [1, 2) before the
+/// next factor (a factor lies in [1e-4, 3.4e38], so the product is always a normal double), and
+/// `statistics` returns log(product) + exponents x ln 2 as log_sum. Each multiply rounds by at
+/// most 2^-53 relative, so log_sum differs from the per-pixel sum of logarithms by at most
+/// 1.1e-16 x pixels plus 1.1e-16 x |log_sum| (the last addition), the same order as that sum's
+/// own rounding: far below the float the tone mapping's scale is rounded to (6e-8 relative).
+class LuminanceAccumulator {
+ public:
+  /// Counts one pixel (non-finite and negative luminances are ignored, as by LuminanceStatistics::add).
+  void add(const glm::vec3& rgb) noexcept {
+    const float y = luminance(rgb);
+    if (!std::isfinite(y) || y < 0.0f) return;
+    const std::uint64_t bits = std::bit_cast<std::uint64_t>(product_ * (LuminanceStatistics::delta + double(y)));
+    // IEEE 754 double: 11 exponent bits above 52 mantissa bits, bias 1023; the product is positive.
+    exponent_ += std::int64_t(bits >> 52) - 1023;
+    product_ = std::bit_cast<double>((bits & mantissa_bits) | one_bits);
+    ++count_;
+    max_luminance_ = std::max(max_luminance_, y);
+  }
+  /// What LuminanceStatistics::add would have recorded for the same pixels.
+  LuminanceStatistics statistics() const noexcept {
+    LuminanceStatistics stats;
+    stats.log_sum = std::log(product_) + double(exponent_) * std::numbers::ln2;
+    stats.count = count_;
+    stats.max_luminance = max_luminance_;
+    return stats;
+  }
+
+ private:
+  /// The mantissa field of a double.
+  static constexpr std::uint64_t mantissa_bits = (std::uint64_t(1) << 52) - 1;
+  /// The bit pattern of 1.0 (exponent field 1023, mantissa 0).
+  static constexpr std::uint64_t one_bits = std::uint64_t(1023) << 52;
+  double product_ = 1.0;           ///< Product of the factors so far, divided by 2^exponent_, in [1, 2).
+  std::int64_t exponent_ = 0;      ///< Binary exponents taken out of the product.
+  std::uint64_t count_ = 0;        ///< Pixels counted.
+  float max_luminance_ = 0.0f;     ///< Brightest counted pixel.
 };
 
 /// Parameters of Reinhard's global operator with a white point.

@@ -33,24 +33,17 @@ namespace igi {
 
 namespace brdf_detail {
 
-/// Mirror direction of `wo` about unit `n`.
+/// The diffuse part: irradiance += intensity x falloff x cos(theta_x), given falloff x cos(theta_x).
 template <int W>
-vec3<W> reflect(const vec3<W>& wo, const vec3<W>& n) noexcept {
-  return n * (vfloat<W>(2.0f) * dot(n, wo)) - wo;
+void add_irradiance(const vfloat<W>& transfer, const glm::vec3& intensity, VplAccumulator<W>& accumulator,
+                    const vmask<W>& mask) noexcept {
+  accumulator.irradiance += keep(vec3<W>(intensity) * transfer, mask);
 }
 
-/// Largest of the three components per lane.
+/// falloff x cos(theta_x) of one VPL at receivers of unit normal `n`: what the diffuse and glossy parts share.
 template <int W>
-vfloat<W> max_component(const vec3<W>& v) noexcept {
-  return max(max(v.x, v.y), v.z);
-}
-
-/// The diffuse part: irradiance += intensity x falloff x cos(theta_x).
-template <int W>
-void add_irradiance(const vec3<W>& n, const VplGeometry<W>& geometry, const glm::vec3& intensity,
-                    VplAccumulator<W>& accumulator, const vmask<W>& mask) noexcept {
-  const vfloat<W> cosine = max(dot(n, geometry.wi), vfloat<W>(0.0f));
-  accumulator.irradiance += keep(vec3<W>(intensity) * (geometry.falloff * cosine), mask);
+vfloat<W> vpl_transfer(const vec3<W>& n, const VplGeometry<W>& geometry) noexcept {
+  return geometry.falloff * max(dot(n, geometry.wi), vfloat<W>(0.0f));
 }
 
 /// x^s for x in [0, 1] and s >= 0 on packets, as exp2(s log2 x) with series for both (the
@@ -95,15 +88,23 @@ vfloat<W> pow_unit(const vfloat<W>& x, const vfloat<W>& s) noexcept {
   return select(positive & !vanishing, result, select(s == vfloat<W>(0.0f), one, vfloat<W>(0.0f)));
 }
 
-/// The glossy lobe value f_glossy / glossy at `wi` (without the reflectance colour).
+/// The glossy lobe value f_glossy / glossy at `wi` (without the reflectance colour) about the lobe's
+/// axis (wo mirrored about the shading normal).
 template <int W>
-vfloat<W> phong_lobe(const vec3<W>& n, const vec3<W>& wo, const vfloat<W>& shininess, const vec3<W>& wi) noexcept {
+vfloat<W> phong_lobe_about(const vec3<W>& axis, const vfloat<W>& shininess, const vec3<W>& wi) noexcept {
   const vfloat<W> s = max(select(isfinite(shininess), shininess, vfloat<W>(1.0f)), vfloat<W>(0.0f));
-  const vfloat<W> alignment = clamp(dot(reflect(wo, n), wi), vfloat<W>(0.0f), vfloat<W>(1.0f));
+  const vfloat<W> alignment = clamp(dot(axis, wi), vfloat<W>(0.0f), vfloat<W>(1.0f));
   return (s + vfloat<W>(2.0f)) * vfloat<W>(0.5f * inv_pi) * pow_unit(alignment, s);
 }
 
-/// The glossy part: glossy += intensity x glossy x min(falloff x cos(theta_x) x lobe, transfer_limit).
+/// The glossy lobe value f_glossy / glossy at `wi` for shading normal `n` and outgoing direction `wo`.
+template <int W>
+vfloat<W> phong_lobe(const vec3<W>& n, const vec3<W>& wo, const vfloat<W>& shininess, const vec3<W>& wi) noexcept {
+  return phong_lobe_about(reflect(wo, n), shininess, wi);
+}
+
+/// The glossy part: glossy += intensity x glossy x min(falloff x cos(theta_x) x lobe, transfer_limit),
+/// given `transfer` = falloff x cos(theta_x).
 /// The lobe is that of a VPL spread over its sphere (VplGeometry::spread): the Phong lobe
 /// cos^s, close to a Gaussian of angular variance 1/s, seen through a cone of half-angle a adds
 /// about a^2 / 2 to that variance, so its exponent becomes s / (1 + s sin^2(a) / 2), the lobe
@@ -111,14 +112,13 @@ vfloat<W> phong_lobe(const vec3<W>& n, const vec3<W>& wo, const vfloat<W>& shini
 /// what is left sharper than the clamp admits is cut to the bound a diffuse receiver has, so no
 /// single VPL makes a firefly on a glossy surface.
 template <int W>
-void add_glossy(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const vec3<W>& n,
+void add_glossy(const VplReceiver<W>& receiver, const BrdfParameters<W>& parameters, const vfloat<W>& transfer,
                 const VplGeometry<W>& geometry, const glm::vec3& intensity, VplAccumulator<W>& accumulator,
                 const vmask<W>& mask) noexcept {
-  const vmask<W> lanes = mask & (max_component(parameters.glossy) > vfloat<W>(0.0f));
+  const vmask<W> lanes = mask & receiver.glossy;
   if (none(lanes)) return;
-  const vfloat<W> cosine = max(dot(n, geometry.wi), vfloat<W>(0.0f));
-  const vfloat<W> shininess = parameters.shininess / (vfloat<W>(1.0f) + vfloat<W>(0.5f) * parameters.shininess * geometry.spread);
-  const vfloat<W> scale = min(geometry.falloff * cosine * phong_lobe(n, hit.wo, shininess, geometry.wi),
+  const vfloat<W> shininess = parameters.shininess / (vfloat<W>(1.0f) + receiver.half_shininess * geometry.spread);
+  const vfloat<W> scale = min(transfer * phong_lobe_about(receiver.lobe_axis, shininess, geometry.wi),
                               vfloat<W>(geometry.transfer_limit));
   accumulator.glossy += keep(vec3<W>(intensity) * parameters.glossy * scale, lanes);
 }
@@ -205,8 +205,14 @@ class LambertBrdf {
   template <int W>
   void add_vpl(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const VplGeometry<W>& geometry,
                const glm::vec3& intensity, VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
-    brdf_detail::add_irradiance(shading_frame_normal(hit, parameters), geometry, intensity, accumulator,
-                           mask & parameters.opaque);
+    add_vpl(make_vpl_receiver(hit, parameters), parameters, geometry, intensity, accumulator, mask);
+  }
+  /// The same with the packet's shading frame resolved once for all its VPLs.
+  template <int W>
+  void add_vpl(const VplReceiver<W>& receiver, const BrdfParameters<W>& parameters, const VplGeometry<W>& geometry,
+               const glm::vec3& intensity, VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
+    brdf_detail::add_irradiance(brdf_detail::vpl_transfer(receiver.normal, geometry), intensity, accumulator,
+                                mask & parameters.opaque);
   }
   /// No secondary rays.
   template <int W>
@@ -233,10 +239,16 @@ class PhongBrdf {
   template <int W>
   void add_vpl(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const VplGeometry<W>& geometry,
                const glm::vec3& intensity, VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
+    add_vpl(make_vpl_receiver(hit, parameters), parameters, geometry, intensity, accumulator, mask);
+  }
+  /// The same with the packet's shading frame and lobe axis resolved once for all its VPLs.
+  template <int W>
+  void add_vpl(const VplReceiver<W>& receiver, const BrdfParameters<W>& parameters, const VplGeometry<W>& geometry,
+               const glm::vec3& intensity, VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
     const vmask<W> lanes = mask & parameters.opaque;
-    const vec3<W> n = shading_frame_normal(hit, parameters);
-    brdf_detail::add_irradiance(n, geometry, intensity, accumulator, lanes);
-    brdf_detail::add_glossy(hit, parameters, n, geometry, intensity, accumulator, lanes);
+    const vfloat<W> transfer = brdf_detail::vpl_transfer(receiver.normal, geometry);
+    brdf_detail::add_irradiance(transfer, intensity, accumulator, lanes);
+    brdf_detail::add_glossy(receiver, parameters, transfer, geometry, intensity, accumulator, lanes);
   }
   /// No secondary rays.
   template <int W>
@@ -260,6 +272,10 @@ class DeltaBrdf {
   /// A delta BRDF gathers nothing from point lights.
   template <int W>
   void add_vpl(const SurfaceHit<W>&, const BrdfParameters<W>&, const VplGeometry<W>&, const glm::vec3&,
+               VplAccumulator<W>&, const vmask<W>&) const noexcept {}
+  /// Nothing either, from a resolved receiver.
+  template <int W>
+  void add_vpl(const VplReceiver<W>&, const BrdfParameters<W>&, const VplGeometry<W>&, const glm::vec3&,
                VplAccumulator<W>&, const vmask<W>&) const noexcept {}
   /// Zero: a delta lobe has no density to evaluate.
   template <int W>
@@ -305,6 +321,12 @@ class StandardBrdf {
   void add_vpl(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const VplGeometry<W>& geometry,
                const glm::vec3& intensity, VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
     PhongBrdf{}.add_vpl(hit, parameters, geometry, intensity, accumulator, mask);
+  }
+  /// The same with the packet's shading frame and lobe axis resolved once for all its VPLs.
+  template <int W>
+  void add_vpl(const VplReceiver<W>& receiver, const BrdfParameters<W>& parameters, const VplGeometry<W>& geometry,
+               const glm::vec3& intensity, VplAccumulator<W>& accumulator, const vmask<W>& mask) const noexcept {
+    PhongBrdf{}.add_vpl(receiver, parameters, geometry, intensity, accumulator, mask);
   }
   /// Reflection (mirror + transmission x F) and refraction (transmission x (1 - F)) rays.
   template <int W>

@@ -52,7 +52,11 @@ inline glm::vec4 sample_bilinear(const Texture& texture, glm::vec2 uv) noexcept 
   const float y = uv.y * float(texture.height) - 0.5f;
   const float x_floor = std::floor(x), y_floor = std::floor(y);
   const float fx = x - x_floor, fy = y - y_floor;
-  const auto wrap = [](int i, int size) { return ((i % size) + size) % size; };
+  // The wrapped uv lies in [0, 1] (1 where a tiny negative coordinate rounds up), so x and y lie
+  // in [-0.5, size - 0.5] (a few units more only where float(size) rounds, above 2^24 texels):
+  // the neighbours lie within one period of the texture, and one addition or subtraction wraps
+  // them. (Integer division here, two per neighbour, cost a tenth of the surface stage.)
+  const auto wrap = [](int i, int size) { return i < 0 ? i + size : i >= size ? i - size : i; };
   const int x0 = wrap(int(x_floor), texture.width), x1 = wrap(int(x_floor) + 1, texture.width);
   const int y0 = wrap(int(y_floor), texture.height), y1 = wrap(int(y_floor) + 1, texture.height);
   const glm::vec4 top = glm::mix(texel(texture, x0, y0), texel(texture, x1, y0), fx);
