@@ -64,7 +64,7 @@ METRIC_LABELS = {"rmse": "RMSE, all pixels (reference noise removed)",
                  "rmse_outside": "RMSE off the visible luminaire (reference noise removed)",
                  "relmse": "relMSE", "ssim": "1 - SSIM"}
 TIME_LABELS = {"cpu_ms_per_frame": "CPU ms per frame (both threads' time; little disturbed by the load)",
-               "ms_per_frame": "wall-clock ms per frame (median; loaded machine)"}
+               "ms_per_frame": "wall-clock ms per frame (median)"}
 
 
 def reference_note(rows):
