@@ -9,10 +9,24 @@
 #include <utility>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "igi/scene/scene.hpp"
 
 namespace igi::testing {
+
+/// A camera at `eye` looking at `target` (+Y up) with vertical field of view `yfov` radians.
+inline Camera look_at(const glm::vec3& eye, const glm::vec3& target, float yfov = 1.0f) {
+  Camera camera;
+  camera.name = "test";
+  camera.camera_to_world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0.0f, 1.0f, 0.0f)));
+  camera.yfov = yfov;
+  return camera;
+}
+
+/// The built-in Cornell box's corner of floor, back wall and the x = 0 wall seen from close by
+/// (from the free space between the blocks): the view where the 1/d^2 clamp removes most light.
+inline Camera cornell_corner_camera() { return look_at({0.15f, 0.3f, 0.3f}, {0.0f, 0.0f, 0.5592f}, 1.2f); }
 
 /// Adds a diffuse material (metallic 0, roughness 1) of `albedo` emitting `emission`; returns its index.
 inline int add_material(Scene& scene, const glm::vec3& albedo, const glm::vec3& emission = glm::vec3(0.0f)) {

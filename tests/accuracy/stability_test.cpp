@@ -13,15 +13,6 @@ using namespace igi::testing;
 
 namespace {
 
-/// A camera at `eye` looking at `target` (+Y up).
-Camera look_at(const glm::vec3& eye, const glm::vec3& target, float yfov = 1.0f) {
-  Camera camera;
-  camera.name = "test";
-  camera.camera_to_world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0.0f, 1.0f, 0.0f)));
-  camera.yfov = yfov;
-  return camera;
-}
-
 /// Largest value a pixel of an IGI frame (anti-aliasing 1, no mirrors or glass in the scene) can
 /// take with clamp distance `clamp`. One VPL at a point adds at most intensity / (pi clamp^2) x
 /// (albedo + glossy reflectance) to a pixel's radiance (the 1/d^2 clamp bounds the diffuse part,
@@ -69,7 +60,7 @@ TEST_CASE("concave corners: no pixel above the clamp's bound, without the clamp 
   Scene scene = cornell_box();
   // The camera looks into the corner of floor, back wall and the x = 0 wall from close by
   // (from free space between the blocks).
-  scene.cameras.front() = look_at({0.15f, 0.3f, 0.3f}, {0.0f, 0.0f, 0.5592f}, 1.2f);
+  scene.cameras.front() = cornell_corner_camera();
   RenderSettings s;
   s.width = s.height = 64;
   s.vpls_per_pixel = 16;
@@ -116,7 +107,7 @@ TEST_CASE("concave corners: no pixel above the clamp's bound, without the clamp 
 TEST_CASE("bias compensation returns the light the clamp removes in a corner", "[accuracy][stability][compensation]") {
   Scene scene = cornell_box();
   // The corner view of the clamp test above, where the clamp removes most light.
-  scene.cameras.front() = look_at({0.15f, 0.3f, 0.3f}, {0.0f, 0.0f, 0.5592f}, 1.2f);
+  scene.cameras.front() = cornell_corner_camera();
   RenderSettings s;
   s.width = s.height = 48;
   s.vpls_per_pixel = 256;

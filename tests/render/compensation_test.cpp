@@ -18,9 +18,7 @@ namespace {
 /// view where the clamp removes most light.
 Scene corner_view() {
   Scene scene = cornell_box();
-  Camera& camera = scene.cameras.front();
-  camera.camera_to_world = glm::inverse(glm::lookAt(glm::vec3(0.15f, 0.3f, 0.3f), glm::vec3(0.0f, 0.0f, 0.5592f), glm::vec3(0, 1, 0)));
-  camera.yfov = 1.2f;
+  scene.cameras.front() = cornell_corner_camera();
   return scene;
 }
 

@@ -89,12 +89,8 @@ TEST_CASE("temporal reuse: a still view averages its frames", "[render][temporal
   RenderSettings temporal = s;
   temporal.temporal_frames = 6;
   TemporalRenderer<> averaged(scene, temporal);
-  const GltfMaterialShader surface(scene);
-  const StandardBrdf brdf;
-  const QmcVplSampler sampler;
-  const DiscontinuityFilter filter;
   TileEngine<EmbreeBackend<8>, GltfMaterialShader, StandardBrdf, QmcVplSampler, DiscontinuityFilter> alone(
-      scene, s, surface, brdf, sampler, filter);
+      scene, s, averaged.surface, averaged.brdf, averaged.sampler, averaged.filter);
   const Camera camera = scene.cameras.front();
   const std::size_t pixels = std::size_t(s.width) * std::size_t(s.height);
   // The oracle's running means, in double: rest, albedo and glossy over every frame, irradiance over the hits.
@@ -104,11 +100,8 @@ TEST_CASE("temporal reuse: a still view averages its frames", "[render][temporal
     alone.begin_frame(camera, index, ToneMapping{},
                       FrameOptions{.keep_layers = true, .pixel_jitter = TemporalReuse::pixel_jitter(int(index))});
     std::vector<PixelLayers> layers(pixels);
-    alone.render_tiles(alone.all_tiles(), [&](std::size_t, const TileResult& tile, double) {
-      std::size_t from = 0;
-      for (int y = tile.rect.y0; y < tile.rect.y1; ++y)
-        for (int x = tile.rect.x0; x < tile.rect.x1; ++x) layers[std::size_t(y * s.width + x)] = tile.layers[from++];
-    });
+    Frame placed = Frame::blank(s.width, s.height, index);
+    alone.render_tiles(alone.all_tiles(), [&](std::size_t, const TileResult& tile, double) { place_tile(tile, placed, layers); });
     const double weight = 1.0 / double(std::min(int(index) + 1, 6));
     Frame expected = Frame::blank(s.width, s.height, index);
     for (std::size_t i = 0; i < pixels; ++i) {
@@ -150,9 +143,7 @@ TEST_CASE("temporal reuse: a still view converges towards the unclamped image", 
   // The Cornell corner seen from close by, where the clamp removes most light. Averaging frames
   // at a fixed clamp freezes its bias; the shrinking clamp of temporal reuse takes it away.
   Scene scene = cornell_box();
-  Camera& camera = scene.cameras.front();
-  camera.camera_to_world = glm::inverse(glm::lookAt(glm::vec3(0.15f, 0.3f, 0.3f), glm::vec3(0.0f, 0.0f, 0.5592f), glm::vec3(0, 1, 0)));
-  camera.yfov = 1.2f;
+  const Camera camera = scene.cameras.front() = cornell_corner_camera();
   RenderSettings s = small_settings();
   s.width = 32;
   s.height = 24;

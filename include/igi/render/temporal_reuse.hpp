@@ -93,17 +93,15 @@ class TemporalReuse {
   /// instances or meshes changed since the previous frame (every history is dropped). Returns
   /// the clamp scale and ray positions the frame is to be rendered with.
   FrameRequest begin(const Camera& camera, int width, int height, bool scene_changed) {
-    const bool same_view = has_previous_ && !scene_changed && width == width_ && height == height_ &&
+    const bool same_view = has_history() && !scene_changed && width == width_ && height == height_ &&
                            camera.camera_to_world == previous_camera_.camera_to_world &&
                            camera.yfov == previous_camera_.yfov;
-    if (scene_changed || width != width_ || height != height_) has_previous_ = false;
+    if (scene_changed || width != width_ || height != height_) previous_projection_.reset();
     still_ = same_view ? still_ + 1 : 0;
-    camera_moved_ = !same_view;
     width_ = width;
     height_ = height;
     previous_camera_ = camera;
-    jitter_ = pixel_jitter(still_);
-    return {clamp_scale(still_, frames_), jitter_};
+    return {clamp_scale(still_, frames_), pixel_jitter(still_)};
   }
 
   /// Averages the frame's `layers` (width x height of begin, row-major, seen through
@@ -117,7 +115,7 @@ class TemporalReuse {
         projection.width() != width_ || projection.height() != height_)
       throw std::invalid_argument("TemporalReuse::accumulate: the frame's sizes differ from begin's");
     glm::vec2 measured;  // where in each pixel its depth was measured: sub-sample 0's ray
-    subsample_offset(0, antialiasing, measured.x, measured.y, jitter_);
+    subsample_offset(0, antialiasing, measured.x, measured.y, pixel_jitter(still_));
     current_.assign(pixels, Sample{});
     tbb::parallel_for(0, height_, [&](int y) {
       for (int x = 0; x < width_; ++x) {
@@ -126,22 +124,22 @@ class TemporalReuse {
       }
     });
     std::swap(previous_, current_);
-    has_previous_ = true;
     previous_projection_.emplace(projection);
     previous_measured_ = measured;
   }
 
   /// Frames averaged into pixel (x, y)'s irradiance by the last accumulate (0 where nothing was hit).
   int history_length(int x, int y) const {
-    if (!has_previous_) return 0;
+    if (!has_history()) return 0;
     return previous_.at(std::size_t(y) * std::size_t(width_) + std::size_t(x)).length;
   }
   /// Frames before the current one with the same view and scene.
   int still_frames() const noexcept { return still_; }
-  /// The longest history.
-  int frames() const noexcept { return frames_; }
 
  private:
+  /// Whether previous_ holds the histories of a frame the next one may reuse.
+  bool has_history() const noexcept { return previous_projection_.has_value(); }
+
   /// What a pixel's history keeps.
   struct Sample {
     glm::vec3 irradiance{0.0f};  ///< Average demodulated irradiance.
@@ -194,7 +192,7 @@ class TemporalReuse {
                   Sample& out) const {
     const std::size_t at = std::size_t(y) * std::size_t(width_) + std::size_t(x);
     // The view-dependent terms keep a history only while the camera stays (then each pixel is its own previous pixel).
-    const bool still = has_previous_ && !camera_moved_;
+    const bool still = still_ > 0;  // the same view and scene as the previous frame
     const Sample* same_pixel = still ? &previous_[at] : nullptr;
     const float view_weight = 1.0f / float(still ? std::min(still_ + 1, frames_) : 1);
     const auto view_average = [&](const glm::vec3& old, const glm::vec3& now) {
@@ -211,7 +209,7 @@ class TemporalReuse {
       Sample history;
       if (same_pixel)
         history = *same_pixel;
-      else if (has_previous_)
+      else if (has_history())
         history = reproject(out.position, out.normal, layers.depth);
       const int cap = still ? frames_ : std::min(frames_, moving_frames);
       out.length = std::min(history.length + 1, cap);
@@ -235,13 +233,10 @@ class TemporalReuse {
   int width_ = 0;
   int height_ = 0;
   int still_ = 0;
-  bool camera_moved_ = true;
   Camera previous_camera_;
-  bool has_previous_ = false;    ///< Whether previous_ holds the last frame's histories.
   std::vector<Sample> previous_;  ///< The last frame's histories, row-major.
   std::vector<Sample> current_;   ///< The frame being accumulated (kept to reuse its memory).
-  std::optional<PinholeProjection> previous_projection_;
-  glm::vec2 jitter_{0.5f};            ///< The current frame's pixel_jitter.
+  std::optional<PinholeProjection> previous_projection_;  ///< The last frame's camera; empty while there is no history.
   glm::vec2 previous_measured_{0.5f}; ///< Where in its pixel the previous frame measured each first hit.
 };
 
