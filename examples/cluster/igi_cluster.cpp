@@ -99,7 +99,6 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
         .set("ranks", farm.size())
         .set("workers", farm.size() > 1 ? farm.size() - 1 : 1)
         .set("tiles", std::uint64_t(renderer.tiles().size()))
-        .set("tile_size", options.settings.tile_size)
         .set("threads_per_rank", threads)
         .set("slow_rank", options.farm.slow_rank)
         .set("slow_factor", options.farm.slow_factor)
@@ -128,7 +127,6 @@ int main(int argc, char** argv) {
   add_animate_option(command_line, options.animate, "dynamic scene: a deterministic function of the frame index");
   command_line.flag("--every-frame", options.every_frame,
                     "also write every frame, named as igi-render --animate names them (<stem>_NNNN<ext>, or a %04d pattern)");
-  command_line.add("--tile", options.settings.tile_size, "tile edge in pixels").range(4, 1024).show_default();
   command_line.add("--tiles-per-request", options.farm.tiles_per_request, "tiles a worker asks for at once (0: its thread count)").range(0, 1 << 20).show_default();
   command_line.flag("--prefetch", options.farm.prefetch, "workers ask for the next tiles when they start a batch (hides the round trip)");
   command_line.add("--slow-rank", options.farm.slow_rank, "test hook: slow this rank down artificially").show_default();

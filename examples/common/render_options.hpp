@@ -58,6 +58,7 @@ inline void add_render_options(CommandLine& command_line, RenderOptions& o, cons
       .show_default();
   add_backend_options(command_line, o.backend, o.packet);
   add_threads_option(command_line, o.settings.threads, threads_help);
+  command_line.add("--tile", o.settings.tile_size, "tile edge in pixels (the image does not depend on it)").range(4, 1024).show_default();
   command_line.add("--frames", o.frames, frames_help).range(1, 100000).show_default();
   command_line.add("--integrator", o.integrator, "igi, or path for the reference path tracer").choices({"igi", "path"}).show_default();
   command_line.add("--spp", o.spp, "samples per pixel of the path tracer").range(1, 1 << 20).show_default();
@@ -114,6 +115,7 @@ inline StatsJson run_statistics(const Scene& scene, const RenderOptions& o, cons
       .set("triangles", std::uint64_t(scene.triangle_count()))
       .set("width", o.settings.width)
       .set("height", o.settings.height)
+      .set("tile_size", o.settings.tile_size)
       .set("backend", backend)
       .set("packet", packet)
       .set("output", o.output)

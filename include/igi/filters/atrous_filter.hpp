@@ -38,7 +38,8 @@ struct AtrousSettings {
   /// footprint and widens the border the pipeline renders around each tile by its step. Three:
   /// on Cornell (320 x 240, 16 VPLs, against a path-traced reference) relMSE falls 0.0253 (the
   /// window alone), 0.0239, 0.0222, 0.0202, 0.0185 for 0 to 4 passes while the border grows to
-  /// 1, 2, 4, 8, 16 pixels; three keep it at a fifth of the default 40-pixel tile.
+  /// 1, 2, 4, 8, 16 pixels; three keep it at a sixth of the default 48-pixel tile (a farm's tiles render it around them; one
+  /// process's share theirs, TileEngine::render_frame).
   int passes = 3;
   /// The window's surface test (normals and depths admitted into the S x S mean), as the
   /// discontinuity buffer's: the mean is the discontinuity buffer's output.

@@ -130,6 +130,29 @@ struct TileGBuffer {
   }
   /// Index of pixel (x, y) in the buffers.
   std::size_t index(int x, int y) const noexcept { return std::size_t(y) * std::size_t(width) + std::size_t(x); }
+  /// Copies `columns x rows` pixels of every buffer from `source`'s (source_x, source_y) on to
+  /// this buffer's (x, y) on; both rectangles must lie inside their buffers.
+  void copy_from(const TileGBuffer& source, int source_x, int source_y, int x, int y, int columns, int rows) {
+    const auto copy = [&](const PixelPlane& from, PixelPlane& to) {
+      for (int row = 0; row < rows; ++row) {
+        const float* in = from.data() + source.index(source_x, source_y + row);
+        float* out = to.data() + index(x, y + row);
+        // A border's columns are a pixel or a few wide: a call to memmove per row would cost more than the copy.
+        if (columns <= 8)
+          for (int column = 0; column < columns; ++column) out[column] = in[column];
+        else
+          std::copy_n(in, columns, out);
+      }
+    };
+    for (Vec3Plane TileGBuffer::*planes :
+         {&TileGBuffer::irradiance, &TileGBuffer::glossy, &TileGBuffer::albedo, &TileGBuffer::normal, &TileGBuffer::radiance}) {
+      copy((source.*planes).x, (this->*planes).x);
+      copy((source.*planes).y, (this->*planes).y);
+      copy((source.*planes).z, (this->*planes).z);
+    }
+    copy(source.depth, depth);
+    copy(source.hit, hit);
+  }
 };
 
 /// Filtered irradiance and glossy radiance of a tile's interior (border excluded), row-major.

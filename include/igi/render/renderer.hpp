@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// The frame loop of one process: the TileEngine renders every tile of a frame, the tiles are
+/// The frame loop of one process: the TileEngine renders every tile of a frame (its two passes
+/// whose tiles share their borders, TileEngine::render_frame), the tiles are
 /// placed into the frame, and their statistics combined into the next frame's tone mapping.
 
 #include <chrono>
@@ -122,7 +123,7 @@ class Renderer {
 
     std::mutex merge_mutex;
     FrameStatistics& stats = frame.statistics;
-    engine_.render_tiles(engine_.all_tiles(), [&](std::size_t, const TileResult& result, double) {
+    engine_.render_frame([&](std::size_t, const TileResult& result, double) {
       place_tile(result, frame, layers_);  // tiles are disjoint: no lock needed
       std::lock_guard lock(merge_mutex);
       stats.rays.merge(result.rays);

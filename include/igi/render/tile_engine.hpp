@@ -7,6 +7,7 @@
 /// frame in one process) and the MPI `TileRenderer` (the tiles rank 0 hands out) are thin front
 /// ends on it, so a tile is the same whichever renders it.
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -19,6 +20,7 @@
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_for_each.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include "igi/render/float_mode.hpp"
@@ -154,6 +156,64 @@ class TileEngine {
     });
   }
 
+  /// Renders every tile of the current frame on this engine's threads with tiles that share
+  /// their borders: each tile's pixels are shaded once into its own G-buffer, and as soon as a
+  /// tile and every tile its border reaches into are shaded, the tile's border is copied from
+  /// theirs and the tile filtered and composed (so its G-buffer and its neighbours' are still in
+  /// cache: waiting for the whole frame to be shaded first cost Cornell 640 x 480 3 ms of CPU a
+  /// frame more). The pixels are render_tiles' (the filter reads the same G-buffer values, as a
+  /// pixel's shading does not depend on the tile that holds it) without shading each tile's border
+  /// again: 8.5% more pixels for the 3 x 3 window on 48-pixel tiles, 78% for AtrousFilter's
+  /// 8-pixel border. `done(tile, result, milliseconds)` as for render_tiles, after the tile is
+  /// composed, with its rays and the time of both its steps. Throws std::logic_error before begin_frame.
+  template <class Done>
+  void render_frame(Done&& done) {
+    if (!frame_.prepared()) throw std::logic_error("a frame was rendered before begin_frame");
+    shaded_.resize(tiles_.size());
+    // A tile waits for the tiles its border reaches into and for itself.
+    for (std::size_t i = 0; i < tiles_.size(); ++i) {
+      int waiting = 0;
+      for_each_neighbour(i, [&](std::size_t) { ++waiting; });
+      shaded_[i].waiting.store(waiting, std::memory_order_relaxed);
+    }
+    using clock = std::chrono::steady_clock;
+    const auto since = [](clock::time_point start) {
+      return std::chrono::duration<double, std::milli>(clock::now() - start).count();
+    };
+    struct Step {
+      std::size_t tile;  ///< Which tile.
+      bool compose;      ///< Shade it (false) or filter and compose it (true).
+    };
+    std::vector<Step> shading(tiles_.size());
+    for (std::size_t i = 0; i < tiles_.size(); ++i) shading[i] = {i, false};
+    arena_.execute([&] {
+      tbb::parallel_for_each(shading.begin(), shading.end(), [&](const Step& step, tbb::feeder<Step>& feeder) {
+        const FlushDenormals flush;
+        ThreadWork& work = workspaces_.local();
+        ShadedTile& shaded = shaded_[step.tile];
+        const auto start = clock::now();
+        if (!step.compose) {
+          pipeline_.shade_tile(frame_, tiles_[step.tile], shaded.gbuffer, work.pipeline, shaded.rays, shaded.stages);
+          shaded.milliseconds = since(start);
+          for_each_neighbour(step.tile, [&](std::size_t j) {
+            if (shaded_[j].waiting.fetch_sub(1, std::memory_order_acq_rel) == 1) feeder.add(Step{j, true});
+          });
+          return;
+        }
+        std::uint64_t gather = 0;
+        {
+          const StageTimer timer(frame_.profile ? &gather : nullptr);
+          gather_border(step.tile);
+        }
+        pipeline_.finish_tile(frame_, tiles_[step.tile], shaded.gbuffer, work.pipeline, work.result);
+        work.result.rays = shaded.rays;
+        work.result.stages.merge(shaded.stages);
+        work.result.stages.gbuffer += gather;
+        done(step.tile, work.result, shaded.milliseconds + since(start));
+      });
+    });
+  }
+
   /// The frame's tiles, in make_tiles order.
   const std::vector<PixelRect>& tiles() const noexcept { return tiles_; }
   /// Every tile index, 0 .. tiles().size() - 1, for render_tiles.
@@ -179,10 +239,58 @@ class TileEngine {
       throw std::out_of_range("tile " + std::to_string(tile) + " is outside 0.." + std::to_string(tiles_.size() - 1));
     if (!frame_.prepared()) throw std::logic_error("a tile was rendered before begin_frame");
   }
+  /// The part of tile `i` grown by the filter's border that lies inside the image.
+  PixelRect reach(std::size_t i) const {
+    const PixelRect& tile = tiles_[i];
+    const int border = pipeline_.border(frame_);
+    return {std::max(tile.x0 - border, 0), std::max(tile.y0 - border, 0), std::min(tile.x1 + border, settings_.width),
+            std::min(tile.y1 + border, settings_.height)};
+  }
+  /// Calls `visit(j)` for tile `i` and each tile j its border reaches into (tiles lie in
+  /// make_tiles' grid; the relation is symmetric, as every tile has the same border).
+  template <class Visit>
+  void for_each_neighbour(std::size_t i, Visit&& visit) const {
+    const PixelRect r = reach(i);
+    const int size = settings_.tile_size;
+    const int columns = (settings_.width + size - 1) / size;
+    for (int row = r.y0 / size; row <= (r.y1 - 1) / size; ++row)
+      for (int column = r.x0 / size; column <= (r.x1 - 1) / size; ++column)
+        visit(std::size_t(row) * std::size_t(columns) + std::size_t(column));
+  }
+  /// Copies into the border of tile `i`'s G-buffer the pixels its neighbours shaded (the border
+  /// outside the image stays as sized: zero, "no hit").
+  void gather_border(std::size_t i) {
+    const PixelRect& tile = tiles_[i];
+    TileGBuffer& gbuffer = shaded_[i].gbuffer;
+    const int border = gbuffer.border;
+    const PixelRect r = reach(i);
+    for_each_neighbour(i, [&](std::size_t j) {
+      if (j == i) return;
+      const PixelRect& other = tiles_[j];
+      const int x0 = std::max(r.x0, other.x0), y0 = std::max(r.y0, other.y0);
+      const int x1 = std::min(r.x1, other.x1), y1 = std::min(r.y1, other.y1);
+      if (x1 <= x0 || y1 <= y0) return;
+      gbuffer.copy_from(shaded_[j].gbuffer, x0 - other.x0 + border, y0 - other.y0 + border, x0 - (tile.x0 - border),
+                        y0 - (tile.y0 - border), x1 - x0, y1 - y0);
+    });
+  }
+
   /// What one thread keeps between tiles.
   struct ThreadWork {
     typename PipelineType::Workspace pipeline;  ///< Streams and G-buffer.
     TileResult result;                          ///< The tile being finished.
+  };
+  /// What render_frame keeps of a tile between its shading and its composition.
+  struct ShadedTile {
+    TileGBuffer gbuffer;          ///< The tile with the filter's border; shading writes its interior.
+    RayCounts rays;               ///< Rays its shading traced.
+    StageTimes stages;            ///< Its shading's stage times.
+    double milliseconds = 0.0;    ///< Its shading's time.
+    std::atomic<int> waiting{0};  ///< Tiles (itself among them) within its border not yet shaded.
+    ShadedTile() = default;
+    /// A new entry (std::vector needs it to grow; only render_frame's set-up resizes, between frames).
+    ShadedTile(ShadedTile&& other) noexcept
+        : gbuffer(std::move(other.gbuffer)), rays(other.rays), stages(other.stages), milliseconds(other.milliseconds) {}
   };
 
   Scene* scene_;
@@ -197,6 +305,7 @@ class TileEngine {
   std::vector<PixelRect> tiles_;
   std::vector<int> all_tiles_;
   tbb::enumerable_thread_specific<ThreadWork> workspaces_;
+  std::vector<ShadedTile> shaded_;  ///< Per tile, between its shading and composition (its G-buffer between frames too).
   FrameState frame_;
   bool dirty_ = false;
 };

@@ -1,0 +1,108 @@
+"""The a-trous filter against the discontinuity buffer at equal frame time: on the built-in Cornell
+box, the window room, the room with blinds (sun through slats) and Sponza_lit, each filter over
+VPLs per pixel 4 ... 64 at 3x3 interleaving (with the sampler that scene's methods chart prefers:
+QMC, and view importance for the two rooms lit through their window). relMSE against the
+path-traced references of methods.py (rendered here if WORK_DIR lacks them) is the mean over
+seeds 1-3, since one frame's error depends on its VPLs' luck; time is the median of the seeds'
+median ms per frame (wall clock, 2 threads: run it on a quiet machine).
+
+For each a-trous point the discontinuity buffer's relMSE at the same time is interpolated on its
+curve (linearly in log time and log error between the two points around it); the ratio below 1
+means a-trous wins at that budget. Points outside the other curve's time range are not compared.
+
+usage: /usr/bin/python3 bench/accuracy/filters.py BUILD_DIR WORK_DIR OUT_DIR [SCENES_DIR]
+writes OUT_DIR/filters.csv, OUT_DIR/filters.png and OUT_DIR/filters_findings.txt.
+"""
+
+import csv
+import math
+import statistics
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only, no display
+import matplotlib.pyplot as plt
+
+from methods import SIZE, VPLS, arguments_and_references, compare, render, scene_arguments
+
+FILTERS = ["discontinuity", "atrous"]
+SEEDS = [1, 2, 3]
+FRAMES = 3  # timed frames per run; the last one is compared
+# The VPL sampler each scene is measured with: importance wins the rooms lit through a window
+# from 17 ms on (methods.png), QMC elsewhere.
+SAMPLER = {"cornell": "qmc", "window": "importance", "blinds": "importance", "sponza_lit": "qmc"}
+
+
+def interpolate(points, ms):
+    """relMSE of the curve `points` [(ms, relmse)] at time `ms`, log-log linear; None outside it."""
+    points = sorted(points)
+    for (t0, e0), (t1, e1) in zip(points, points[1:]):
+        if t0 <= ms <= t1:
+            if t1 == t0:
+                return min(e0, e1)
+            f = (math.log(ms) - math.log(t0)) / (math.log(t1) - math.log(t0))
+            return math.exp(math.log(e0) + f * (math.log(e1) - math.log(e0)))
+    return None
+
+
+def main():
+    build, work, out, scenes_dir, references = arguments_and_references("filters")
+    scenes = [scene for scene, _ in references]
+    rows = []
+    for scene, reference in references:
+        sampler = SAMPLER[scene]
+        for filter_name in FILTERS:
+            for vpls in VPLS:
+                times, errors = [], []
+                for seed in SEEDS:
+                    test = work / f"filters_{scene}_{filter_name}_{vpls}_{seed}.pfm"
+                    stats = render(build, scene_arguments(scene, scenes_dir) +
+                                   ["--filter", filter_name, "--vpl-sampler", sampler, "--vpls", str(vpls),
+                                    "--frames", str(FRAMES), "--seed", str(seed)], test)
+                    times.append(stats["ms_per_frame"])
+                    errors.append(compare(build, reference, test)["relmse"])
+                rows.append({"scene": scene, "sampler": sampler, "filter": filter_name, "vpls": vpls,
+                             "ms_per_frame": statistics.median(times), "relmse": sum(errors) / len(errors),
+                             "relmse_per_seed": " ".join(f"{e:.5f}" for e in errors)})
+                print(f"{scene:10} {filter_name:13} M={vpls:3}: {rows[-1]['ms_per_frame']:7.1f} ms  "
+                      f"relMSE {rows[-1]['relmse']:.5f}", flush=True)
+    with open(out / "filters.csv", "w", newline="") as file:
+        writer = csv.DictWriter(file, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+
+    findings = []
+    for scene in scenes:
+        curve = {f: [(r["ms_per_frame"], r["relmse"]) for r in rows if r["scene"] == scene and r["filter"] == f]
+                 for f in FILTERS}
+        compared = []
+        for (ms, error), vpls in zip(sorted(curve["atrous"]), VPLS):
+            other = interpolate(curve["discontinuity"], ms)
+            if other is not None:
+                compared.append(f"M={vpls} {ms:.1f} ms: {error:.5f} against {other:.5f} ({error / other:.2f})")
+        wins = sum(1 for line in compared if float(line.rsplit("(", 1)[1].rstrip(")")) < 1.0)
+        findings.append(f"{scene} ({SAMPLER[scene]}): a-trous wins {wins} of {len(compared)} equal-time points; "
+                        + "; ".join(compared))
+    (out / "filters_findings.txt").write_text("\n".join(findings) + "\n")
+    print("\n".join(findings))
+
+    figure, axes = plt.subplots(1, len(scenes), figsize=(5 * len(scenes), 4.2))
+    for axis, scene in zip(axes, scenes):
+        for filter_name in FILTERS:
+            points = sorted((r["ms_per_frame"], r["relmse"]) for r in rows
+                            if r["scene"] == scene and r["filter"] == filter_name)
+            axis.plot([p[0] for p in points], [p[1] for p in points], marker="o", label=filter_name)
+        axis.set_xscale("log")
+        axis.set_yscale("log")
+        axis.set_title(f"{scene} ({SAMPLER[scene]}), {SIZE}, seeds 1-3")
+        axis.set_xlabel("ms per frame (2 threads)")
+        axis.set_ylabel("mean relMSE against the path tracer")
+        axis.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=8)
+    figure.tight_layout()
+    figure.savefig(out / "filters.png", dpi=110)
+    print(f"filters: wrote {out / 'filters.csv'}, {out / 'filters.png'} and {out / 'filters_findings.txt'}")
+
+
+if __name__ == "__main__":
+    main()
