@@ -73,16 +73,18 @@ def main():
 
     findings = []
     for scene in scenes:
-        curve = {f: [(r["ms_per_frame"], r["relmse"]) for r in rows if r["scene"] == scene and r["filter"] == f]
-                 for f in FILTERS}
-        compared = []
-        for (ms, error), vpls in zip(sorted(curve["atrous"]), VPLS):
-            other = interpolate(curve["discontinuity"], ms)
+        def curve(filter_name):
+            return [r for r in rows if r["scene"] == scene and r["filter"] == filter_name]
+        discontinuity = [(r["ms_per_frame"], r["relmse"]) for r in curve("discontinuity")]
+        compared = []  # (row of a-trous, its error over the discontinuity buffer's at that time)
+        for row in curve("atrous"):
+            other = interpolate(discontinuity, row["ms_per_frame"])
             if other is not None:
-                compared.append(f"M={vpls} {ms:.1f} ms: {error:.5f} against {other:.5f} ({error / other:.2f})")
-        wins = sum(1 for line in compared if float(line.rsplit("(", 1)[1].rstrip(")")) < 1.0)
-        findings.append(f"{scene} ({SAMPLER[scene]}): a-trous wins {wins} of {len(compared)} equal-time points; "
-                        + "; ".join(compared))
+                compared.append((row, row["relmse"] / other))
+        wins = sum(1 for _, ratio in compared if ratio < 1.0)
+        findings.append(f"{scene} ({SAMPLER[scene]}): a-trous wins {wins} of {len(compared)} equal-time points; " +
+                        "; ".join(f"M={row['vpls']} {row['ms_per_frame']:.1f} ms: {row['relmse']:.5f} against "
+                                  f"{row['relmse'] / ratio:.5f} ({ratio:.2f})" for row, ratio in compared))
     (out / "filters_findings.txt").write_text("\n".join(findings) + "\n")
     print("\n".join(findings))
 
