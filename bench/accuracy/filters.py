@@ -14,7 +14,6 @@ usage: /usr/bin/python3 bench/accuracy/filters.py BUILD_DIR WORK_DIR OUT_DIR [SC
 writes OUT_DIR/filters.csv, OUT_DIR/filters.png and OUT_DIR/filters_findings.txt.
 """
 
-import csv
 import math
 import statistics
 
@@ -23,7 +22,7 @@ import matplotlib
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt
 
-from methods import SIZE, VPLS, arguments_and_references, compare, render, scene_arguments
+from methods import SIZE, VPLS, arguments_and_references, compare, render, scene_arguments, write_csv
 
 FILTERS = ["discontinuity", "atrous"]
 SEEDS = [1, 2, 3]
@@ -66,10 +65,7 @@ def main():
                              "relmse_per_seed": " ".join(f"{e:.5f}" for e in errors)})
                 print(f"{scene:10} {filter_name:13} M={vpls:3}: {rows[-1]['ms_per_frame']:7.1f} ms  "
                       f"relMSE {rows[-1]['relmse']:.5f}", flush=True)
-    with open(out / "filters.csv", "w", newline="") as file:
-        writer = csv.DictWriter(file, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_csv(out / "filters.csv", rows)
 
     findings = []
     for scene in scenes:

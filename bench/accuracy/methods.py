@@ -64,6 +64,14 @@ def compare(build, reference, test):
     return json.loads(subprocess.run(command, check=True, capture_output=True, text=True).stdout)
 
 
+def write_csv(path, rows):
+    """Writes `rows` (dicts with the same keys, the first one's order) to the CSV file `path`."""
+    with open(path, "w", newline="") as file:
+        writer = csv.DictWriter(file, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+
+
 def arguments_and_references(tool):
     """BUILD_DIR, WORK_DIR, OUT_DIR and SCENES_DIR from the command line (the folders made), and the
     scenes to measure (Sponza_lit only where its file exists), each with its path-traced reference
@@ -104,10 +112,7 @@ def main():
                              "relmse": error["relmse"], "rmse": error["rmse"]})
                 print(f"{scene:10} {label:22} M={vpls:3}: {stats['ms_per_frame']:8.1f} ms  relMSE {error['relmse']:.4f}",
                       flush=True)
-    with open(out / "methods.csv", "w", newline="") as file:
-        writer = csv.DictWriter(file, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_csv(out / "methods.csv", rows)
     figure, axes = plt.subplots(1, len(scenes), figsize=(5 * len(scenes), 4.2))
     for axis, scene in zip(axes, scenes):
         for label, _, _ in METHODS:

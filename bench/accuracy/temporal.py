@@ -11,14 +11,13 @@ usage: /usr/bin/python3 bench/accuracy/temporal.py BUILD_DIR WORK_DIR OUT_DIR [S
 writes OUT_DIR/temporal.csv and OUT_DIR/temporal.png.
 """
 
-import csv
 
 import matplotlib
 
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt
 
-from methods import SIZE, arguments_and_references, compare, render, scene_arguments
+from methods import SIZE, arguments_and_references, compare, render, scene_arguments, write_csv
 
 # (label, igi-render options)
 CONFIGURATIONS = [
@@ -48,10 +47,7 @@ def main():
                 rows.append({"scene": scene, "configuration": label, "frames": frames, "relmse": relmse,
                              "relmse_per_seed": " ".join(f"{e['relmse']:.5f}" for e in errors)})
                 print(f"{scene:10} {label:26} frame {frames:2}: relMSE {relmse:.4f}", flush=True)
-    with open(out / "temporal.csv", "w", newline="") as file:
-        writer = csv.DictWriter(file, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_csv(out / "temporal.csv", rows)
     figure, axes = plt.subplots(1, len(scenes), figsize=(5 * len(scenes), 4.2))
     for axis, scene in zip(axes, scenes):
         for label, _ in CONFIGURATIONS:

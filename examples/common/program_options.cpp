@@ -84,10 +84,13 @@ void add_temporal_option(CommandLine& command_line, RenderSettings& settings) {
       .show_default();
 }
 
-void add_filter_option(CommandLine& command_line, std::string& filter) {
+void add_filter_options(CommandLine& command_line, std::string& filter, RenderSettings& settings) {
   command_line.add("--filter", filter, "irradiance filter: discontinuity (the paper's S x S buffer), atrous (edge-avoiding a-trous wavelet passes after it: smoother, renders a wider border around each tile), box or none")
       .choices({"discontinuity", "atrous", "box", "none"})
       .show_default();
+  command_line.flag("--filter-delta-lights", settings.filter_delta_lights,
+                    "filter the direct light of point, spot and directional lights with the VPLs' light, as the paper "
+                    "does (default: composed per pixel, since it has no noise to filter and keeps its shadow edges sharp)");
 }
 
 void add_vpl_sampler_option(CommandLine& command_line, std::string& sampler) {

@@ -41,7 +41,7 @@ inline void add_render_options(CommandLine& command_line, RenderOptions& o, cons
   command_line.add("-o,--output", o.output, "output image: .png (tone mapped), .exr or .pfm (HDR)").show_default();
   add_size_option(command_line, o.size);
   add_sampling_options(command_line, o.settings);
-  add_filter_option(command_line, o.filter);
+  add_filter_options(command_line, o.filter, o.settings);
   add_vpl_sampler_option(command_line, o.vpl_sampler);
   command_line.add("--clamp", o.settings.clamp_distance, "minimum VPL distance in 1/d^2 (negative: 2% of the scene diagonal)").show_default();
   command_line.add("--compensate", o.settings.compensation_rays,
@@ -132,6 +132,7 @@ inline StatsJson sampling_statistics(const RenderSettings& settings, const std::
       .set("interleave", settings.interleave)
       .set("aa", settings.antialiasing)
       .set("filter", filter)
+      .set("filter_delta_lights", settings.filter_delta_lights)
       .set("vpl_sampler", vpl_sampler);
   return stats;
 }

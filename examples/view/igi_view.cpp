@@ -459,7 +459,7 @@ int main(int argc, char** argv) {
   igi::programs::add_scene_options(command_line, options);
   igi::programs::add_size_option(command_line, options.size);
   igi::programs::add_sampling_options(command_line, options.settings);
-  igi::programs::add_filter_option(command_line, options.filter);
+  igi::programs::add_filter_options(command_line, options.filter, options.settings);
   igi::programs::add_vpl_sampler_option(command_line, options.vpl_sampler);
   igi::programs::add_backend_options(command_line, options.backend, options.packet);
   igi::programs::add_threads_option(command_line, options.settings.threads, "worker threads (0: all cores)");

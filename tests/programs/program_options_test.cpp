@@ -109,6 +109,7 @@ TEST_CASE("a run's shared stats fields are the scene, image, backend, output, an
   CHECK(run["aa"] == options.settings.antialiasing);
   CHECK(run["filter"] == "box");
   CHECK(run["vpl_sampler"] == "importance");
+  CHECK(run["filter_delta_lights"] == false);
 }
 
 TEST_CASE("the built-in scenes are the Cornell box and the window room, and the VPL sampler option names a VplSamplerChoice", "[programs]") {

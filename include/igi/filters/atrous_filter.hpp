@@ -103,6 +103,13 @@ struct AtrousStage {
   }
 };
 
+/// Whether every component of every pixel of `planes` is zero.
+inline bool all_zero(const Vec3Plane& planes) noexcept {
+  for (const PixelPlane* plane : {&planes.x, &planes.y, &planes.z})
+    if (!std::all_of(plane->data(), plane->data() + plane->size(), [](float v) { return v == 0.0f; })) return false;
+  return true;
+}
+
 /// Buffer rows [y0, y1) and columns [x0, x1): the part of a tile's buffer a stage computes.
 struct BufferRegion {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< Corners.
@@ -126,8 +133,9 @@ template <int W>
 }
 
 /// Stage 1 over `region`: the S x S same-surface mean of irradiance and glossy radiance and the
-/// variance of each mean's luminance, into `out`.
-template <int W>
+/// variance of each mean's luminance, into `out` (`Glossy` false: irradiance only, the glossy
+/// planes are left as they are).
+template <int W, bool Glossy>
 void window_mean_and_variance(const TileGBuffer& g, int interleave, const SameSurface<W>& accept,
                               const BufferRegion& region, AtrousStage& out) {
   for (int cy = region.y0; cy < region.y1; ++cy)
@@ -140,20 +148,26 @@ void window_mean_and_variance(const TileGBuffer& g, int interleave, const SameSu
       vfloat<W> count(0.0f), irradiance_sum(0.0f), irradiance_sum2(0.0f), glossy_sum(0.0f), glossy_sum2(0.0f);
       for_each_in_window<W>(g, interleave, cx, cy, accept,
                             [&](std::ptrdiff_t neighbour, const vmask<W>& take) __attribute__((always_inline)) {
-                              const vec3<W> e = load<W>(g.irradiance, neighbour), s = load<W>(g.glossy, neighbour);
+                              const vec3<W> e = load<W>(g.irradiance, neighbour);
                               irradiance.assign(irradiance + e, take);
-                              glossy.assign(glossy + s, take);
                               count.assign(count + vfloat<W>(1.0f), take);
-                              const vfloat<W> de = luminance(e) - centre_irradiance, ds = luminance(s) - centre_glossy;
+                              const vfloat<W> de = luminance(e) - centre_irradiance;
                               irradiance_sum.assign(irradiance_sum + de, take);
                               irradiance_sum2.assign(irradiance_sum2 + de * de, take);
-                              glossy_sum.assign(glossy_sum + ds, take);
-                              glossy_sum2.assign(glossy_sum2 + ds * ds, take);
+                              if constexpr (Glossy) {
+                                const vec3<W> s = load<W>(g.glossy, neighbour);
+                                glossy.assign(glossy + s, take);
+                                const vfloat<W> ds = luminance(s) - centre_glossy;
+                                glossy_sum.assign(glossy_sum + ds, take);
+                                glossy_sum2.assign(glossy_sum2 + ds * ds, take);
+                              }
                             });
       store(average(irradiance, count), out.irradiance, centre);
-      store(average(glossy, count), out.glossy, centre);
       variance_of_mean(irradiance_sum, irradiance_sum2, count).store(out.irradiance_variance.data() + centre);
-      variance_of_mean(glossy_sum, glossy_sum2, count).store(out.glossy_variance.data() + centre);
+      if constexpr (Glossy) {
+        store(average(glossy, count), out.glossy, centre);
+        variance_of_mean(glossy_sum, glossy_sum2, count).store(out.glossy_variance.data() + centre);
+      }
     }
 }
 
@@ -182,8 +196,9 @@ template <int W>
   return sum / weights;  // the centre tap is always inside: weights > 0
 }
 
-/// One à-trous pass with taps `step` pixels apart over `region`, from `in` to `out`.
-template <int W>
+/// One à-trous pass with taps `step` pixels apart over `region`, from `in` to `out` (`Glossy`
+/// false: irradiance only, the glossy planes are left as they are).
+template <int W, bool Glossy>
 void atrous_pass(const TileGBuffer& g, const AtrousSettings& settings, int step, const BufferRegion& region,
                  const AtrousStage& in, AtrousStage& out) {
   const vfloat<W> zero(0.0f), one(1.0f);
@@ -202,8 +217,11 @@ void atrous_pass(const TileGBuffer& g, const AtrousSettings& settings, int step,
       const vfloat<W> sigma(settings.luminance_sigma);
       const vfloat<W> inverse_spread_irradiance =
           one / (sigma * sqrt(blurred_variance<W>(in.irradiance_variance, g, cx, cy, centre)) + no_variance);
-      const vfloat<W> inverse_spread_glossy =
-          one / (sigma * sqrt(blurred_variance<W>(in.glossy_variance, g, cx, cy, centre)) + no_variance);
+      vfloat<W> inverse_spread_glossy(0.0f);
+      if constexpr (Glossy)
+        inverse_spread_glossy = one / (sigma * sqrt(blurred_variance<W>(in.glossy_variance, g, cx, cy, centre)) + no_variance);
+      // The depth test's scale per pixel of distance, one division per pixel instead of per tap.
+      const vfloat<W> inverse_depth_scale = one / (vfloat<W>(settings.depth_sigma) * abs(depth));
       vec3<W> irradiance(glm::vec3(0.0f)), glossy(glm::vec3(0.0f));
       vfloat<W> weight_irradiance(0.0f), weight_glossy(0.0f), variance_irradiance(0.0f), variance_glossy(0.0f);
       for (int ty = -1; ty <= 1; ++ty) {
@@ -224,37 +242,42 @@ void atrous_pass(const TileGBuffer& g, const AtrousSettings& settings, int step,
           const int distance = std::max(std::abs(tx), std::abs(ty)) * step;
           vfloat<W> exponent(0.0f);
           if (distance > 0)
-            exponent = abs(load<W>(g.depth, neighbour) - depth) /
-                       (vfloat<W>(settings.depth_sigma * float(distance)) * abs(depth));
+            exponent = abs(load<W>(g.depth, neighbour) - depth) * inverse_depth_scale * vfloat<W>(1.0f / float(distance));
           exponent += length_squared(load<W>(g.albedo, neighbour) - albedo) * inverse_albedo_sigma2;
-          const vec3<W> e = load<W>(in.irradiance, neighbour), s = load<W>(in.glossy, neighbour);
+          const vec3<W> e = load<W>(in.irradiance, neighbour);
           const vfloat<W> h(atrous_kernel[tx + 1] * atrous_kernel[ty + 1]);
           const vfloat<W> geometric = h * agreement;
           const vfloat<W> exponent_irradiance = exponent + abs(luminance(e) - luminance_irradiance) * inverse_spread_irradiance;
-          const vfloat<W> exponent_glossy = exponent + abs(luminance(s) - luminance_glossy) * inverse_spread_glossy;
           // A weight that is not a number >= 0 (infinite or NaN depths and normals) counts as 0.
           const vfloat<W> we = geometric * exp_negative(exponent_irradiance);
-          const vfloat<W> ws = geometric * exp_negative(exponent_glossy);
           const vmask<W> take_irradiance = take & (we > zero) & isfinite(we);
-          const vmask<W> take_glossy = take & (ws > zero) & isfinite(ws);
           irradiance.assign(irradiance + e * we, take_irradiance);
           weight_irradiance.assign(weight_irradiance + we, take_irradiance);
           variance_irradiance.assign(variance_irradiance + we * we * load<W>(in.irradiance_variance, neighbour), take_irradiance);
-          glossy.assign(glossy + s * ws, take_glossy);
-          weight_glossy.assign(weight_glossy + ws, take_glossy);
-          variance_glossy.assign(variance_glossy + ws * ws * load<W>(in.glossy_variance, neighbour), take_glossy);
+          if constexpr (Glossy) {
+            const vec3<W> s = load<W>(in.glossy, neighbour);
+            const vfloat<W> exponent_glossy = exponent + abs(luminance(s) - luminance_glossy) * inverse_spread_glossy;
+            const vfloat<W> ws = geometric * exp_negative(exponent_glossy);
+            const vmask<W> take_glossy = take & (ws > zero) & isfinite(ws);
+            glossy.assign(glossy + s * ws, take_glossy);
+            weight_glossy.assign(weight_glossy + ws, take_glossy);
+            variance_glossy.assign(variance_glossy + ws * ws * load<W>(in.glossy_variance, neighbour), take_glossy);
+          }
         }
       }
       // No admitted tap (a miss, or a broken centre normal or depth): the input stays.
-      const vmask<W> some_irradiance = weight_irradiance > zero, some_glossy = weight_glossy > zero;
+      const vmask<W> some_irradiance = weight_irradiance > zero;
       const vfloat<W> safe_irradiance = select(some_irradiance, weight_irradiance, one);
-      const vfloat<W> safe_glossy = select(some_glossy, weight_glossy, one);
       store(select(some_irradiance, irradiance * (one / safe_irradiance), centre_irradiance), out.irradiance, centre);
-      store(select(some_glossy, glossy * (one / safe_glossy), centre_glossy), out.glossy, centre);
       select(some_irradiance, variance_irradiance / (safe_irradiance * safe_irradiance), load<W>(in.irradiance_variance, centre))
           .store(out.irradiance_variance.data() + centre);
-      select(some_glossy, variance_glossy / (safe_glossy * safe_glossy), load<W>(in.glossy_variance, centre))
-          .store(out.glossy_variance.data() + centre);
+      if constexpr (Glossy) {
+        const vmask<W> some_glossy = weight_glossy > zero;
+        const vfloat<W> safe_glossy = select(some_glossy, weight_glossy, one);
+        store(select(some_glossy, glossy * (one / safe_glossy), centre_glossy), out.glossy, centre);
+        select(some_glossy, variance_glossy / (safe_glossy * safe_glossy), load<W>(in.glossy_variance, centre))
+            .store(out.glossy_variance.data() + centre);
+      }
     }
 }
 
@@ -295,16 +318,28 @@ class AtrousFilter {
     thread_local filter_detail::AtrousStage stages[2];
     const std::size_t pixels = std::size_t(gbuffer.width) * std::size_t(gbuffer.height);
     for (auto& stage : stages) stage.assign(pixels);
+    // Diffuse tiles (no glossy lobe in sight) skip the glossy planes: filtering zeros gives zeros,
+    // already in `out`, and the work per tap halves.
+    if (filter_detail::all_zero(gbuffer.glossy))
+      filter<W, false>(gbuffer, interleave, stages, out);
+    else
+      filter<W, true>(gbuffer, interleave, stages, out);
+  }
+
+ private:
+  /// The stages over `gbuffer` into `out`, with the glossy radiance or (`Glossy` false) without.
+  template <int W, bool Glossy>
+  void filter(const TileGBuffer& gbuffer, int interleave, filter_detail::AtrousStage (&stages)[2], FilteredTile& out) const {
     const filter_detail::SameSurface<W> same_surface{&gbuffer, window_.cos_max_angle(),
                                                      settings_.window.max_relative_depth};
-    filter_detail::window_mean_and_variance<W>(gbuffer, interleave, same_surface,
-                                               filter_detail::grown_interior(gbuffer, reach(settings_.passes)), stages[0]);
+    filter_detail::window_mean_and_variance<W, Glossy>(
+        gbuffer, interleave, same_surface, filter_detail::grown_interior(gbuffer, reach(settings_.passes)), stages[0]);
     int current = 0;
     for (int pass = 0; pass < settings_.passes; ++pass) {
       // Pass k's output is read by passes k+1.. within their steps' sum: 2^passes - 2^(k+1).
       const int later = reach(settings_.passes) - reach(pass + 1);
-      filter_detail::atrous_pass<W>(gbuffer, settings_, 1 << pass, filter_detail::grown_interior(gbuffer, later),
-                                    stages[current], stages[1 - current]);
+      filter_detail::atrous_pass<W, Glossy>(gbuffer, settings_, 1 << pass, filter_detail::grown_interior(gbuffer, later),
+                                            stages[current], stages[1 - current]);
       current = 1 - current;
     }
     const filter_detail::AtrousStage& result = stages[current];
@@ -314,11 +349,10 @@ class AtrousFilter {
         const auto to = std::ptrdiff_t(y) * out.width + x;
         // Misses get zero, as in the discontinuity buffer (the passes leave a miss's input, already zero).
         filter_detail::store(filter_detail::load<W>(result.irradiance, from), out.irradiance, to);
-        filter_detail::store(filter_detail::load<W>(result.glossy, from), out.glossy, to);
+        if constexpr (Glossy) filter_detail::store(filter_detail::load<W>(result.glossy, from), out.glossy, to);
       }
   }
 
- private:
   /// Sum of the steps of `passes` passes: 1 + 2 + ... + 2^(passes-1).
   static constexpr int reach(int passes) noexcept { return (1 << passes) - 1; }
 

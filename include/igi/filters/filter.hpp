@@ -107,12 +107,12 @@ struct TileGBuffer {
   int width = 0;          ///< Pixels per row, border included.
   int height = 0;         ///< Rows, border included.
   int border = 1;         ///< Border pixels on each side (what the filter may read).
-  Vec3Plane irradiance;   ///< Unfiltered VPL irradiance (before albedo/pi).
+  Vec3Plane irradiance;   ///< Unfiltered VPL irradiance (before albedo/pi), the delta lights' only with RenderSettings::filter_delta_lights.
   Vec3Plane glossy;       ///< Unfiltered glossy VPL radiance.
   Vec3Plane albedo;       ///< Diffuse albedo of the first hit (after texturing).
   Vec3Plane normal;       ///< Unit shading normal of the first hit; zero on a miss.
   PixelPlane depth;       ///< Distance of the first hit; 0 on a miss.
-  Vec3Plane radiance;     ///< Unfiltered rest: emission and mirror/glass paths.
+  Vec3Plane radiance;     ///< Unfiltered rest: emission, the delta lights' direct light, mirror/glass paths.
   PixelPlane hit;         ///< 1 where the first ray hit geometry, else 0 (floats, so a row loads as a SIMD mask).
 
   /// Sets every buffer to `w x h` zeros.

@@ -7,12 +7,15 @@
 ///      W sub-grid neighbours (Figure 2 of the paper);
 ///   2. all of them traced, hits kept as structure-of-arrays streams;
 ///   3. the surface shader turns every hit into BRDF parameters (alpha cut-outs re-traced);
-///   4. for each VPL of the set's k-th subset, for each packet: a coherent shadow packet, one
-///      occlusion query, and the BRDF shader's masked contribution;
+///   4. for each VPL of the set's k-th subset (and the delta lights' exact VPLs, in every
+///      sub-sample), for each packet: a coherent shadow packet, one occlusion query, and the BRDF
+///      shader's masked contribution;
 ///   4b. with bias compensation (RenderSettings::compensation_rays), short gather rays from the
 ///       primary hits return the light the 1/d^2 clamp removed (see `compensate`);
 ///   5. mirror and glass rays spawned by the BRDF shader run steps 2-4 again, level by level;
-///   6. the G-buffer receives irradiance, glossy radiance, albedo, normal, depth and the rest.
+///   6. the G-buffer receives irradiance, glossy radiance, albedo, normal, depth and the rest
+///      (emission, the delta lights' direct light unless RenderSettings::filter_delta_lights,
+///      mirror and glass paths).
 /// Then the filter reconstructs irradiance, radiance is composed, luminance statistics recorded,
 /// and pixels tone mapped with the previous frame's parameters.
 
@@ -153,7 +156,10 @@ class Pipeline {
     SurfaceHit<W> surface;          ///< Hit points.
     BrdfParameters<W> parameters;   ///< Surface shader output.
     VplReceiver<W> receiver;        ///< The shading frame every VPL shares, resolved after the surface shader.
-    VplAccumulator<W> light;        ///< VPL light gathered.
+    VplAccumulator<W> light;        ///< VPL light gathered, filtered on primary hits.
+    /// Light of the delta lights' exact VPLs, composed unfiltered beside emission (zero with
+    /// RenderSettings::filter_delta_lights, which gathers it into `light`).
+    VplAccumulator<W> direct;
   };
 
   /// Per-thread memory reused across tiles.
@@ -323,27 +329,46 @@ class Pipeline {
         shade_surface(frame, packet, depth == 0 ? Coherence::coherent : Coherence::incoherent,
                       depth == 0 ? counts.primary : counts.secondary);
         packet.light = {};
+        packet.direct = {};
       }
     }
     const int subsets = frame.settings.antialiasing;
     // Each subset alone estimates the full light, so a sub-sample's subset is weighted by N.
-    gather_vpls(frame, set, std::size_t(k), std::size_t(subsets), float(subsets), level, work, counts);
+    gather_vpls(frame, set, std::size_t(k), std::size_t(subsets), float(subsets),
+                frame.settings.filter_delta_lights ? DeltaLights::filtered : DeltaLights::composed, level, work, counts);
   }
 
+  /// What gather_vpls does with the exact VPLs of delta lights (point, spot, directional).
+  enum class DeltaLights {
+    in_turn,   ///< As any VPL: in the subset whose turn it is (bias compensation's gather rays).
+    filtered,  ///< Every sub-sample's, at weight 1, into `light`.
+    composed,  ///< Every sub-sample's, at weight 1, into `direct`.
+  };
+
   /// Step 4 for `packets`: VPLs first, first + stride, ... of set `set`, each weighted by
-  /// `weight`, against every packet. The loop is timed whole as `connect`, its occlusion queries
-  /// also alone as `shadow`, which is then taken out of `connect`.
+  /// `weight`, against every packet, into each packet's `light`, and the delta lights' VPLs as
+  /// `delta` says. The loop is timed whole as `connect`, its occlusion queries also alone as
+  /// `shadow`, which is then taken out of `connect`.
   void gather_vpls(const FrameState& frame, int set, std::size_t first, std::size_t stride, float weight,
-                   std::span<StreamPacket> packets, Workspace& work, RayCounts& counts) const {
+                   DeltaLights delta, std::span<StreamPacket> packets, Workspace& work, RayCounts& counts) const {
     const std::uint64_t shadow_before = work.stages.shadow;
     std::uint64_t vpl_loop = 0;
     {
       const StageTimer loop_timer(work.profile ? &vpl_loop : nullptr);
       const std::vector<Vpl>& vpls = frame.vpls.sets[std::size_t(set)];
       const float roulette = frame.settings.shadow_roulette;
-      for (std::size_t j = first; j < vpls.size(); j += stride) {
+      // Out of turn, a delta light's one VPL lights every sub-sample at weight 1, so a pixel's
+      // sub-samples average its exact light over the pixel's area (in a subset it would light
+      // one sub-sample N-fold); the other VPLs take turns.
+      const bool out_of_turn = delta != DeltaLights::in_turn;
+      const std::size_t start = out_of_turn ? 0 : first, step = out_of_turn ? 1 : stride;
+      for (std::size_t j = start; j < vpls.size(); j += step) {
         const Vpl& vpl = vpls[j];
-        const glm::vec3 intensity = vpl.intensity * weight;
+        const bool exact = out_of_turn && vpl.kind != VplKind::surface;
+        if (!exact && (j < first || (j - first) % stride != 0)) continue;
+        const glm::vec3 intensity = vpl.intensity * (exact ? 1.0f : weight);
+        VplAccumulator<W> StreamPacket::*const into =
+            exact && delta == DeltaLights::composed ? &StreamPacket::direct : &StreamPacket::light;
         for (StreamPacket& packet : packets) {
           if (none(packet.hit)) continue;
           const VplGeometry<W> geometry =
@@ -355,7 +380,7 @@ class Pipeline {
           const vfloat<W> length = max(geometry.distance - vfloat<W>(2.0f * frame.ray_epsilon), vfloat<W>(0.0f));
           shadow.set(origin, geometry.wi, vfloat<W>(0.0f), length, geometry.reaches);
           if (roulette > 0.0f) {
-            play_roulette(frame, std::uint32_t(j), packet, geometry, intensity, shadow, work, counts);
+            play_roulette(frame, std::uint32_t(j), packet, geometry, intensity, shadow, packet.*into, work, counts);
             continue;
           }
           // Shadow rays all end at one VPL: coherent, even from a mirror's scattered hit points.
@@ -365,7 +390,7 @@ class Pipeline {
             occluded = backend_->occluded(shadow, Coherence::coherent, geometry.reaches);
           }
           counts.shadow += std::uint64_t(popcount(geometry.reaches));
-          add_vpl(packet, geometry, intensity, packet.light, geometry.reaches & !occluded);
+          add_vpl(packet, geometry, intensity, packet.*into, geometry.reaches & !occluded);
         }
       }
     }
@@ -374,19 +399,20 @@ class Pipeline {
 
   /// Step 4 for one VPL and packet with shadow-ray Russian roulette: the VPL's unoccluded light is
   /// computed first; on lanes where it is below `shadow_roulette` x what the pixel gathered so far
-  /// (both as the sum of irradiance and pi x glossy radiance over the channels) the shadow ray is
-  /// traced with probability p = light / (shadow_roulette x gathered) and the light, if visible,
-  /// weighted 1/p. The random number is hashed from the pixel, the VPL's index in its set, the
+  /// (its `light` and `direct`, both as the sum of irradiance and pi x glossy radiance over the
+  /// channels) the shadow ray is traced with probability p = light / (shadow_roulette x gathered)
+  /// and the light, if visible, weighted 1/p and added to `into`. The random number is hashed from the pixel, the VPL's index in its set, the
   /// frame index and the seed, so every packet width, tile, thread and process makes the same choice.
   void play_roulette(const FrameState& frame, std::uint32_t vpl_index, StreamPacket& packet, const VplGeometry<W>& geometry,
-                     const glm::vec3& intensity, RayPacket<W>& shadow, Workspace& work, RayCounts& counts) const {
+                     const glm::vec3& intensity, RayPacket<W>& shadow, VplAccumulator<W>& into, Workspace& work,
+                     RayCounts& counts) const {
     VplAccumulator<W> light;
     add_vpl(packet, geometry, intensity, light, geometry.reaches);
     const auto size = [](const VplAccumulator<W>& a) {
       const vec3<W> sum = a.irradiance + a.glossy * vfloat<W>(std::numbers::pi_v<float>);
       return sum.x + sum.y + sum.z;
     };
-    const vfloat<W> threshold = size(packet.light) * vfloat<W>(frame.settings.shadow_roulette);
+    const vfloat<W> threshold = (size(packet.light) + size(packet.direct)) * vfloat<W>(frame.settings.shadow_roulette);
     const vfloat<W> gain = size(light);
     const vmask<W> faint = geometry.reaches & (gain < threshold);
     vmask<W> traced = geometry.reaches;
@@ -408,8 +434,8 @@ class Pipeline {
     }
     counts.shadow += std::uint64_t(popcount(traced));
     const vmask<W> visible = traced & !occluded;
-    packet.light.irradiance += keep(light.irradiance * boost, visible);
-    packet.light.glossy += keep(light.glossy * boost, visible);
+    into.irradiance += keep(light.irradiance * boost, visible);
+    into.glossy += keep(light.glossy * boost, visible);
   }
 
   /// Step 4b, bias compensation (Kollig and Keller, "Illumination in the presence of weak
@@ -469,7 +495,8 @@ class Pipeline {
     const std::span<StreamPacket> all(gather);
     for (int g = 0; g < rays; ++g)
       gather_vpls(frame, set, std::size_t(k) + std::size_t(g) * subsets, subsets * std::size_t(rays),
-                  float(subsets) * float(rays), all.subspan(std::size_t(g) * level.size(), level.size()), work, counts);
+                  float(subsets) * float(rays), DeltaLights::in_turn, all.subspan(std::size_t(g) * level.size(), level.size()),
+                  work, counts);
     {
       const StageTimer timer(work.timing(&StageTimes::compensate));
       const float inverse_reach2 = 1.0f / (reach * reach);
@@ -553,8 +580,10 @@ class Pipeline {
     for (std::size_t level = 0; level < work.levels.size(); ++level) {
       for (const StreamPacket& packet : work.levels[level]) {
         const PixelPacket<W>& pixels = work.pixels[std::size_t(packet.pixels)];
-        // Radiance not filtered: emission, plus for deeper levels everything they gathered.
-        vec3<W> rest = packet.parameters.emission;
+        // Radiance not filtered: emission and the delta lights' direct light, plus for deeper
+        // levels everything they gathered.
+        vec3<W> rest = packet.parameters.emission + packet.parameters.albedo * packet.direct.irradiance * vfloat<W>(inv_pi) +
+                       packet.direct.glossy;
         if (level > 0)
           rest += packet.parameters.albedo * packet.light.irradiance * vfloat<W>(inv_pi) +
                   packet.light.glossy;

@@ -38,6 +38,14 @@ struct RenderSettings {
   /// pixel has gathered so far gets its shadow ray with probability light / (fraction x gathered)
   /// and, if visible, that much more weight (unbiased: fewer rays, a little more noise). 0: off.
   float shadow_roulette = 0.0f;
+  /// Whether the delta lights' direct light (point, spot and directional lights: one exact VPL
+  /// each in every set, see QmcVplSampler) goes through the filter with the VPLs' light, as in
+  /// the paper. Off by default: that light is the same in every interleaving set, so filtering it
+  /// removes no noise and only spreads sharp shadow edges over the window (and à-trous's wider
+  /// footprint) into the dark side, where the error relative to the light there is largest; it is
+  /// composed per pixel instead, beside emission. Either way, with anti-aliasing every sub-sample
+  /// takes it (where a VPL subset's turn would give it to one sub-sample N-fold).
+  bool filter_delta_lights = false;
   int compensation_rays = 0;      ///< Bias compensation: gather rays per pixel that return the light the clamp removes (0: off).
   /// Temporal reuse (whole frames of one Renderer): each pixel averages up to this many frames
   /// of its history, reprojected with the camera's motion and dropped where normal or depth
