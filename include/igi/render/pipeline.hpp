@@ -360,12 +360,11 @@ class Pipeline {
       // Out of turn, a delta light's one VPL lights every sub-sample at weight 1, so a pixel's
       // sub-samples average its exact light over the pixel's area (in a subset it would light
       // one sub-sample N-fold); the other VPLs take turns.
-      const bool out_of_turn = delta != DeltaLights::in_turn;
-      const std::size_t start = out_of_turn ? 0 : first, step = out_of_turn ? 1 : stride;
-      for (std::size_t j = start; j < vpls.size(); j += step) {
+      for (std::size_t j = 0; j < vpls.size(); ++j) {
         const Vpl& vpl = vpls[j];
-        const bool exact = out_of_turn && vpl.kind != VplKind::surface;
-        if (!exact && (j < first || (j - first) % stride != 0)) continue;
+        const bool exact = delta != DeltaLights::in_turn && vpl.kind != VplKind::surface;
+        const bool turn = j >= first && (j - first) % stride == 0;
+        if (!exact && !turn) continue;
         const glm::vec3 intensity = vpl.intensity * (exact ? 1.0f : weight);
         VplAccumulator<W> StreamPacket::*const into =
             exact && delta == DeltaLights::composed ? &StreamPacket::direct : &StreamPacket::light;
@@ -401,8 +400,9 @@ class Pipeline {
   /// computed first; on lanes where it is below `shadow_roulette` x what the pixel gathered so far
   /// (its `light` and `direct`, both as the sum of irradiance and pi x glossy radiance over the
   /// channels) the shadow ray is traced with probability p = light / (shadow_roulette x gathered)
-  /// and the light, if visible, weighted 1/p and added to `into`. The random number is hashed from the pixel, the VPL's index in its set, the
-  /// frame index and the seed, so every packet width, tile, thread and process makes the same choice.
+  /// and the light, if visible, weighted 1/p and added to `into`. The random number is hashed
+  /// from the pixel, the VPL's index in its set, the frame index and the seed, so every packet
+  /// width, tile, thread and process makes the same choice.
   void play_roulette(const FrameState& frame, std::uint32_t vpl_index, StreamPacket& packet, const VplGeometry<W>& geometry,
                      const glm::vec3& intensity, RayPacket<W>& shadow, VplAccumulator<W>& into, Workspace& work,
                      RayCounts& counts) const {
