@@ -5,7 +5,7 @@
 //                     only on an Embree that has the fix (and still under a watchdog);
 //   incoherent16      rtcOccluded16 with the incoherent flag;
 //   coherent8x2       two rtcOccluded8 calls with the coherent flag, one per half (what
-//                     EmbreeBackend<16> does: detail::occluded16_as_halves);
+//                     EmbreeBackend<16> does: detail::embree_trace_packet);
 //   coherent16_avx2   rtcOccluded16 coherent on a device made with "isa=avx2" (no AVX-512 kernels).
 //
 //   occlusion16_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
@@ -93,7 +93,10 @@ std::int64_t trace(RTCScene scene, const Packets& source, std::vector<igi::RayPa
     const int* valid = source.valid[p].lane;
     auto* rays = reinterpret_cast<RTCRay16*>(&work[p]);
     if (strategy == Strategy::coherent8x2) {
-      igi::detail::occluded16_as_halves(valid, scene, &context, *rays);
+      // What EmbreeBackend<16> does with a coherent packet while the 16-wide kernel can loop.
+      igi::detail::EmbreePacketWidths halves;
+      halves.sixteen = false;
+      igi::detail::embree_trace_packet<16, false>(valid, scene, &context, *rays, halves);
     } else {
       rtcOccluded16(valid, scene, &context, rays);
     }

@@ -150,9 +150,8 @@ struct ReplayTimes {
 };
 
 /// Replays everything once: packets with rtcIntersect16 / rtcOccluded16 flagged with the hint the
-/// pipeline gave (coherent occlusion as two 8-wide halves while Embree's coherent 16-wide
-/// occlusion can loop, as in EmbreeBackend<16>), single rays with rtcIntersect1 / rtcOccluded1 (incoherent: one ray has
-/// nothing to share).
+/// pipeline gave, called as EmbreeBackend<16> calls them, single rays with rtcIntersect1 /
+/// rtcOccluded1 (incoherent: one ray has nothing to share).
 /// The buffers must be fresh (Replay::reset) before each call.
 ReplayTimes replay_once(Replay& replay, RTCScene scene, tbb::task_arena& arena) {
   ReplayTimes t;
@@ -161,21 +160,22 @@ ReplayTimes replay_once(Replay& replay, RTCScene scene, tbb::task_arena& arena) 
   coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   RTCIntersectContext incoherent;
   rtcInitIntersectContext(&incoherent);
+  // As EmbreeBackend<16> traces them (detail::embree_trace_packet): halves where the device has no
+  // 16-wide kernels (they would ignore valid[]), and never the coherent 16-wide occlusion kernel
+  // where it can loop.
+  RTCDevice device = rtcGetSceneDevice(scene);  // a reference of ours
+  const igi::detail::EmbreePacketWidths widths = igi::detail::EmbreePacketWidths::of(device);
+  rtcReleaseDevice(device);
   auto start = clock_type::now();
   replay_parallel(arena, replay.closest, [&](ReplayPacket& p) {
     RTCIntersectContext context = p.coherent ? coherent : incoherent;
-    rtcIntersect16(p.valid, scene, &context, &p.rayhit);
+    igi::detail::embree_trace_packet<16, true>(p.valid, scene, &context, p.rayhit, widths);
   });
   t.closest = elapsed_ms(start);
   start = clock_type::now();
   replay_parallel(arena, replay.occlusion, [&](ReplayPacket& p) {
-    // As EmbreeBackend<16> traces them: never the coherent 16-wide kernel where it can loop, but
-    // two coherent 8-wide halves.
     RTCIntersectContext context = p.coherent ? coherent : incoherent;
-    if (p.coherent && igi::detail::embree_coherent_occlusion16_may_loop)
-      igi::detail::occluded16_as_halves(p.valid, scene, &context, p.rayhit.ray);
-    else
-      rtcOccluded16(p.valid, scene, &context, &p.rayhit.ray);
+    igi::detail::embree_trace_packet<16, false>(p.valid, scene, &context, p.rayhit.ray, widths);
   });
   t.occlusion = elapsed_ms(start);
   start = clock_type::now();

@@ -498,10 +498,21 @@ void cross_check(const Scene& scene, const B& backend, const Reference& referenc
     backend.intersect(rays, hit_packet, mask);
     const std::string damage = untouched(before, rays, hit_packet, mask, true);
     if (!damage.empty()) FAIL(damage << " (packet at ray " << first << ")");
+    // The same packet as one RayHitPacket, as the pipeline's stream packets are (Embree traces
+    // those in place): the same results, and masked-off lanes left alone there too.
+    RayHitPacket<W> joined;
+    load_packet<W>(set, first, joined.rays, joined.hits);
+    backend.intersect(joined.rays, joined.hits, mask);
+    const std::string joined_damage = untouched(before, joined.rays, joined.hits, mask, true);
+    if (!joined_damage.empty()) FAIL(joined_damage << " (RayHitPacket at ray " << first << ")");
     for (int lane = 0; lane < W; ++lane) {
       const std::size_t i = first + std::size_t(lane);
       if (!mask[lane]) continue;
       const Result tested = result_of(rays, hit_packet, lane);
+      const Result joined_result = result_of(joined.rays, joined.hits, lane);
+      if (joined_result.hit != tested.hit || joined_result.prim != tested.prim || joined_result.t != tested.t)
+        FAIL("closest hit at ray " << i << " differs traced as a RayHitPacket: " << joined_result.describe()
+                                   << " against " << tested.describe());
       hits += tested.hit;
       const std::string problem = compare_hits(scene, set.rays[i], truth[i], tested, tol);
       if (!problem.empty())

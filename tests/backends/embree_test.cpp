@@ -11,6 +11,22 @@
 
 using igi::EmbreeBackend;
 
+/// EmbreeBackend on a device limited to AVX2 ("isa=avx2"): Embree has no 16-wide kernels there,
+/// as on every CPU without AVX-512, and its 16-wide calls would ignore valid[]
+/// (detail::EmbreePacketWidths), so the backend's halves are tested on every CPU.
+template <int W>
+struct EmbreeOnAvx2 : EmbreeBackend<W> {
+  /// Builds over `scene` on an AVX2 device.
+  explicit EmbreeOnAvx2(const igi::Scene& scene) : EmbreeBackend<W>(scene, "isa=avx2") {}
+};
+
+/// EmbreeBackend on a device limited to SSE4.2: no 8- or 16-wide kernels, as on CPUs without AVX.
+template <int W>
+struct EmbreeOnSse42 : EmbreeBackend<W> {
+  /// Builds over `scene` on an SSE4.2 device.
+  explicit EmbreeOnSse42(const igi::Scene& scene) : EmbreeBackend<W>(scene, "isa=sse4.2") {}
+};
+
 TEST_CASE("embree: Embree's errors surface as exceptions carrying Embree's message", "[backends]") {
   EmbreeBackend<4> backend(igi::testing::instanced_scene());
   // An operation Embree rejects: transforms are only for instance geometries.
@@ -46,7 +62,7 @@ TEST_CASE("embree: bad input is rejected with a message before reaching Embree",
 }
 
 TEMPLATE_TEST_CASE("embree: masked-off lanes are neither traced nor written", "[backends]", EmbreeBackend<4>,
-                   EmbreeBackend<8>, EmbreeBackend<16>) {
+                   EmbreeBackend<8>, EmbreeBackend<16>, EmbreeOnAvx2<16>, EmbreeOnSse42<8>) {
   constexpr int W = TestType::width;
   const igi::Scene scene = igi::testing::instanced_scene();
   const TestType backend(scene);
@@ -174,8 +190,28 @@ TEMPLATE_TEST_CASE("embree: flattened instances that move twice, then deform, st
   igi::testing::cross_check_all_kinds(scene, backend);
 }
 
+TEST_CASE("embree: a device's packet widths are what its ISA has", "[backends]") {
+  const igi::Scene scene = igi::testing::instanced_scene();
+  const auto widths = [&](const char* config) {
+    const EmbreeBackend<4> backend(scene, config);
+    return igi::detail::EmbreePacketWidths::of(backend.device());
+  };
+  // A device limited below AVX-512 has no 16-wide kernels, below AVX no 8-wide ones, whatever the CPU.
+  CHECK_FALSE(widths("isa=avx2").sixteen);
+  CHECK_FALSE(widths("isa=sse4.2").sixteen);
+  CHECK_FALSE(widths("isa=sse4.2").eight);
+  const igi::detail::EmbreePacketWidths native = widths("");
+  // Embree's AVX-512 kernels need all five of these (its ISA AVX512, common/sys/sysinfo.h).
+  const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+                      __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("avx512bw") &&
+                      __builtin_cpu_supports("avx512vl");
+  CHECK(native.sixteen == avx512);
+  CHECK(native.eight == bool(__builtin_cpu_supports("avx")));
+}
+
 IGI_CROSS_CHECK_CASES("embree:", EmbreeBackend<1>, EmbreeBackend<4>, EmbreeBackend<8>, EmbreeBackend<16>)
 IGI_CROSS_CHECK_CASES("embree instancing:", InstancingEmbree<4>, InstancingEmbree<16>)
+IGI_CROSS_CHECK_CASES("embree without 16-wide kernels:", EmbreeOnAvx2<16>, EmbreeOnSse42<8>, EmbreeOnSse42<16>)
 
 namespace {
 
@@ -260,12 +296,13 @@ TEST_CASE("closed mesh: shadow rays aimed at its shared edges and vertices do no
   rtcReleaseGeometry(geometry);
   rtcCommitScene(plain);
   REQUIRE(rtcGetDeviceError(device) == RTC_ERROR_NONE);
+  const igi::detail::EmbreePacketWidths widths = igi::detail::EmbreePacketWidths::of(device);
   const long plain_leaks = leaks_through_closed_sphere(edges, center, [&](RayPacket<8>& packet, const vmask<8>& mask) {
     alignas(32) int valid[8];
     for (int lane = 0; lane < 8; ++lane) valid[lane] = mask[lane] ? -1 : 0;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    rtcOccluded8(valid, plain, &context, reinterpret_cast<RTCRay8*>(&packet));
+    igi::detail::embree_trace_packet<8, false>(valid, plain, &context, *reinterpret_cast<RTCRay8*>(&packet), widths);
     vmask<8> occluded;
     for (int lane = 0; lane < 8; ++lane) occluded.set(lane, mask[lane] && packet.tfar[lane] < 0.0f);
     return occluded;

@@ -8,7 +8,9 @@
 ///     and vertex updates, and Embree errors as igi::EmbreeError;
 ///   - igi/backends/embree/embree_tracing.hpp: the rtcIntersect1/4/8/16 and rtcOccluded1/4/8/16
 ///     call per width, in place on the packets (their layout checked against Embree's types),
-///     with coherent 16-wide occlusion as two 8-wide calls while Embree's coherent 16-wide
+///     as two calls on the halves where the device has no kernels of the packet's width (16 on
+///     CPUs without AVX-512, whose 16-wide calls would ignore the mask: detail::EmbreePacketWidths),
+///     and coherent 16-wide occlusion as two 8-wide calls while Embree's coherent 16-wide
 ///     occlusion kernel can loop (`detail::embree_coherent_occlusion16_may_loop`).
 /// Link with the CMake target igi::embree. Embree runs much faster with denormals flushed to zero
 /// (_MM_SET_FLUSH_ZERO_MODE / _MM_SET_DENORMALS_ZERO_MODE on each tracing thread); the backend
@@ -52,7 +54,8 @@ class EmbreeBackend {
   /// Embree reports a problem.
   explicit EmbreeBackend(const Scene& scene, const std::string& device_config = "",
                          std::size_t flatten_limit = default_flatten_limit)
-      : scene_(std::make_unique<EmbreeScene>(scene, device_config, flatten_limit)) {}
+      : scene_(std::make_unique<EmbreeScene>(scene, device_config, flatten_limit)),
+        packet_widths_(detail::EmbreePacketWidths::of(scene_->device())) {}
 
   /// Moves a backend; the source is left empty.
   EmbreeBackend(EmbreeBackend&&) noexcept = default;
@@ -77,7 +80,7 @@ class EmbreeBackend {
   template <int N>
     requires(N == W || N == 1)
   void intersect(RayPacket<N>& rays, HitPacket<N>& hits, Coherence coherence, const vmask<N>& mask) const {
-    detail::embree_intersect<N>(scene_->traced_scene(), rays, hits, coherence, mask);
+    detail::embree_intersect<N>(scene_->traced_scene(), packet_widths_, rays, hits, coherence, mask);
     scene_->remap_flattened(hits, mask);
   }
 
@@ -92,7 +95,7 @@ class EmbreeBackend {
   template <int N>
     requires(N == W || N == 1)
   vmask<N> occluded(RayPacket<N>& rays, Coherence coherence, const vmask<N>& mask) const {
-    return detail::embree_occluded<N>(scene_->traced_scene(), rays, coherence, mask);
+    return detail::embree_occluded<N>(scene_->traced_scene(), packet_widths_, rays, coherence, mask);
   }
 
   /// Moves instance `index`; the top level is re-committed at commit().
@@ -116,6 +119,7 @@ class EmbreeBackend {
 
  private:
   std::unique_ptr<EmbreeScene> scene_;  ///< The Embree objects, at a stable address for Embree's error callback.
+  detail::EmbreePacketWidths packet_widths_;  ///< The packet widths the device traces natively (the others go as halves).
 };
 
 static_assert(Backend<EmbreeBackend<1>> && Backend<EmbreeBackend<4>> && Backend<EmbreeBackend<8>> && Backend<EmbreeBackend<16>>);

@@ -3,14 +3,17 @@
 /// Tracing igi packets with Embree 3, whatever the scene: which rtcIntersect1/4/8/16 and
 /// rtcOccluded1/4/8/16 call each width takes, Embree's valid[] lanes and coherence flag, and the
 /// layout checks that let Embree read and write RayPacket, HitPacket and RayHitPacket in place.
-/// Coherent 16-wide occlusion goes as two 8-wide calls while Embree's coherent 16-wide
-/// occlusion kernel can loop (`detail::embree_coherent_occlusion16_may_loop`). The scene these
+/// Packets go as halves where the device has no kernels of their width (EmbreePacketWidths) and
+/// coherent 16-wide occlusion as two 8-wide calls while Embree's coherent 16-wide occlusion
+/// kernel can loop (`detail::embree_coherent_occlusion16_may_loop`). The scene these
 /// calls trace is built and updated by igi/backends/embree/embree_scene.hpp; EmbreeBackend
 /// (igi/backends/embree/embree_backend.hpp) joins the two.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
 #include <embree3/rtcore.h>
 
@@ -40,33 +43,6 @@ namespace igi::detail {
 /// stack with ones (which makes Embree's own coherent 16-wide occlusion loop every time in a
 /// two-level scene) and they return. So only that one kernel is avoided.
 inline constexpr bool embree_coherent_occlusion16_may_loop = RTC_VERSION < 40401;
-
-/// rtcOccluded16 as two rtcOccluded8 calls on the packet's halves, with the same `context`: the
-/// coherent 8-wide kernel does not loop where the 16-wide one can. Blocked lanes get tfar = -inf,
-/// as rtcOccluded16 gives them.
-inline void occluded16_as_halves(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRay16& rays) {
-  for (int base = 0; base < 16; base += 8) {
-    alignas(32) RTCRay8 half;
-    alignas(32) int half_valid[8];  // Embree loads valid[] with aligned vector loads
-    for (int lane = 0; lane < 8; ++lane) {
-      half_valid[lane] = valid[base + lane];
-      half.org_x[lane] = rays.org_x[base + lane];
-      half.org_y[lane] = rays.org_y[base + lane];
-      half.org_z[lane] = rays.org_z[base + lane];
-      half.tnear[lane] = rays.tnear[base + lane];
-      half.dir_x[lane] = rays.dir_x[base + lane];
-      half.dir_y[lane] = rays.dir_y[base + lane];
-      half.dir_z[lane] = rays.dir_z[base + lane];
-      half.time[lane] = rays.time[base + lane];
-      half.tfar[lane] = rays.tfar[base + lane];
-      half.mask[lane] = rays.mask[base + lane];
-      half.id[lane] = rays.id[base + lane];
-      half.flags[lane] = rays.flags[base + lane];
-    }
-    rtcOccluded8(half_valid, scene, context, &half);
-    for (int lane = 0; lane < 8; ++lane) rays.tfar[base + lane] = half.tfar[lane];
-  }
-}
 
 /// Embree's packet types for each width.
 template <int W>
@@ -173,11 +149,91 @@ RTCIntersectContext embree_context(Coherence coherence) noexcept {
   return context;
 }
 
+/// The packet widths an Embree device traces with kernels of their own width. Without one,
+/// Embree 3 traces an N-wide call as its ray stream (rtcore.cpp: rtcIntersect16 takes
+/// `rayStreamFilters.intersectSOA` when `intersectors.intersector16` is null), and the stream
+/// ignores valid[]: it traces every lane whose tnear <= tfar, writes its results there and
+/// asserts (Debian builds Embree with assertions) that those lanes hold finite rays. That is
+/// rtcIntersect16 / rtcOccluded16 on every CPU without AVX-512 and on devices made with a lower
+/// "isa=", and the 8-wide calls without AVX; igi's masked-off lanes may hold anything (NaN
+/// included), so such packets go as halves of a width the device has.
+struct EmbreePacketWidths {
+  bool eight = true;    ///< rtcIntersect8 / rtcOccluded8 have 8-wide kernels.
+  bool sixteen = true;  ///< rtcIntersect16 / rtcOccluded16 have 16-wide kernels.
+  /// What `device` has (Embree's RTC_DEVICE_PROPERTY_NATIVE_RAY8/16_SUPPORTED).
+  static EmbreePacketWidths of(RTCDevice device) noexcept {
+    return {rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) != 0,
+            rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0};
+  }
+  /// Whether N-wide calls have N-wide kernels; 1 and 4 always do (4 needs SSE2, which every
+  /// x86-64 CPU has).
+  constexpr bool native(int n) const noexcept { return n == 16 ? sixteen : n == 8 ? eight : true; }
+};
+
+/// Embree's N-wide packet a query reads and writes: the rays alone for occlusion, rays and hit
+/// record for closest hits.
+template <int N, bool Closest>
+using EmbreeQueryPacket =
+    std::conditional_t<Closest, typename EmbreePacketTypes<N>::RayHit, typename EmbreePacketTypes<N>::Ray>;
+
+/// Copies lanes [first, first + N/2) of every row of `whole` (an Embree packet is rows of N
+/// 4-byte lanes) to `half`'s rows, or (`to_whole`) back.
+template <int N, class Whole, class Half>
+void copy_half_lanes(Whole& whole, Half& half, int first, bool to_whole) noexcept {
+  constexpr std::size_t row = N * sizeof(float), half_row = row / 2;
+  static_assert(sizeof(Whole) % row == 0 && sizeof(Half) * 2 == sizeof(Whole), "Embree packets are rows of 4-byte lanes");
+  auto* whole_bytes = reinterpret_cast<unsigned char*>(&whole) + std::size_t(first) * sizeof(float);
+  auto* half_bytes = reinterpret_cast<unsigned char*>(&half);
+  for (std::size_t r = 0; r < sizeof(Whole) / row; ++r) {
+    if (to_whole)
+      std::memcpy(whole_bytes + r * row, half_bytes + r * half_row, half_row);
+    else
+      std::memcpy(half_bytes + r * half_row, whole_bytes + r * row, half_row);
+  }
+}
+
+/// Embree's N-wide call (N = 4, 8, 16) of a closest-hit or occlusion query on `packet`, honouring
+/// valid[] on every device: N-wide where `widths` has N-wide kernels, else as two calls on the
+/// halves (recursively), each of which Embree only makes when it has a lane to trace. Coherent
+/// 16-wide occlusion also goes as halves while Embree's kernel for it can loop
+/// (embree_coherent_occlusion16_may_loop).
+template <int N, bool Closest>
+void embree_trace_packet(const int* valid, RTCScene scene, RTCIntersectContext* context,
+                         EmbreeQueryPacket<N, Closest>& packet, EmbreePacketWidths widths) {
+  static_assert(N == 4 || N == 8 || N == 16);
+  if constexpr (N > 4) {
+    const bool loops = N == 16 && !Closest && embree_coherent_occlusion16_may_loop &&
+                       context->flags == RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    if (!widths.native(N) || loops) {
+      for (int first = 0; first < N; first += N / 2) {
+        if (std::none_of(valid + first, valid + first + N / 2, [](int lane) { return lane != 0; })) continue;
+        alignas(64) int half_valid[N / 2];  // Embree loads valid[] with aligned vector loads
+        std::copy_n(valid + first, N / 2, half_valid);
+        alignas(64) EmbreeQueryPacket<N / 2, Closest> half;
+        copy_half_lanes<N>(packet, half, first, false);
+        embree_trace_packet<N / 2, Closest>(half_valid, scene, context, half, widths);
+        copy_half_lanes<N>(packet, half, first, true);
+      }
+      return;
+    }
+  }
+  if constexpr (Closest) {
+    if constexpr (N == 4) rtcIntersect4(valid, scene, context, &packet);
+    else if constexpr (N == 8) rtcIntersect8(valid, scene, context, &packet);
+    else rtcIntersect16(valid, scene, context, &packet);
+  } else {
+    if constexpr (N == 4) rtcOccluded4(valid, scene, context, &packet);
+    else if constexpr (N == 8) rtcOccluded8(valid, scene, context, &packet);
+    else rtcOccluded16(valid, scene, context, &packet);
+  }
+}
+
 /// Closest hits in `top` of the rays in `mask`: hit lanes get tfar = distance, Embree's ids and
-/// Ng; missing lanes get invalid ids; other lanes are untouched.
+/// Ng; missing lanes get invalid ids; other lanes are untouched. `widths`: what the device of
+/// `top` traces natively (EmbreePacketWidths::of).
 template <int N>
-void embree_intersect(RTCScene top, RayPacket<N>& rays, HitPacket<N>& hits, Coherence coherence,
-                      const vmask<N>& mask) {
+void embree_intersect(RTCScene top, EmbreePacketWidths widths, RayPacket<N>& rays, HitPacket<N>& hits,
+                      Coherence coherence, const vmask<N>& mask) {
   using EmbreeRay = typename EmbreePacketTypes<N>::Ray;
   using EmbreeRayHit = typename EmbreePacketTypes<N>::RayHit;
   RTCIntersectContext ctx = embree_context<N>(coherence);
@@ -189,14 +245,7 @@ void embree_intersect(RTCScene top, RayPacket<N>& rays, HitPacket<N>& hits, Cohe
       // Embree writes nothing on a miss: active lanes start as misses.
       for (int lane = 0; lane < N; ++lane)
         if (mask[lane]) packet->hits.geomID[lane] = packet->hits.primID[lane] = packet->hits.instID[lane] = invalid_id;
-      auto* in_place = reinterpret_cast<EmbreeRayHit*>(packet);
-      if constexpr (N == 4) {
-        rtcIntersect4(valid.data(), top, &ctx, in_place);
-      } else if constexpr (N == 8) {
-        rtcIntersect8(valid.data(), top, &ctx, in_place);
-      } else {
-        rtcIntersect16(valid.data(), top, &ctx, in_place);
-      }
+      embree_trace_packet<N, true>(valid.data(), top, &ctx, *reinterpret_cast<EmbreeRayHit*>(packet), widths);
       return;
     }
   }
@@ -212,12 +261,8 @@ void embree_intersect(RTCScene top, RayPacket<N>& rays, HitPacket<N>& hits, Cohe
   std::memcpy(&both.hit, &lanes_out, sizeof(both.hit));
   if constexpr (N == 1) {
     if (valid[0]) rtcIntersect1(top, &ctx, &both);
-  } else if constexpr (N == 4) {
-    rtcIntersect4(valid.data(), top, &ctx, &both);
-  } else if constexpr (N == 8) {
-    rtcIntersect8(valid.data(), top, &ctx, &both);
   } else {
-    rtcIntersect16(valid.data(), top, &ctx, &both);
+    embree_trace_packet<N, true>(valid.data(), top, &ctx, both, widths);
   }
   std::memcpy(&lanes_out, &both.hit, sizeof(both.hit));
   const HitPacket<N>* hit_lanes = &lanes_out;
@@ -236,33 +281,26 @@ void embree_intersect(RTCScene top, RayPacket<N>& rays, HitPacket<N>& hits, Cohe
   }
 }
 
-/// Lanes of `mask` whose interval [tnear, tfar] is blocked in `top`; Embree sets their tfar to -inf.
+/// Lanes of `mask` whose interval [tnear, tfar] is blocked in `top`; Embree sets their tfar to
+/// -inf. `widths` as for embree_intersect.
 template <int N>
-vmask<N> embree_occluded(RTCScene top, RayPacket<N>& rays, Coherence coherence, const vmask<N>& mask) {
+vmask<N> embree_occluded(RTCScene top, EmbreePacketWidths widths, RayPacket<N>& rays, Coherence coherence,
+                         const vmask<N>& mask) {
   using EmbreeRay = typename EmbreePacketTypes<N>::Ray;
   // Never Embree's coherent 16-wide occlusion kernel where it can loop forever (see
-  // detail::embree_coherent_occlusion16_may_loop): coherent packets go as two coherent 8-wide
-  // halves. Of the ways around it (bench/backends/occlusion16_bench.cpp, bench/README.md),
-  // the halves were fastest on Sponza (1.17x the incoherent flag) and a million-triangle
-  // terrain (1.02x), the incoherent flag on the 36-triangle Cornell box (1.38x the halves); on
-  // whole frames the halves make Sponza_lit 2-5% faster and Cornell 5% slower. A device made
-  // with "isa=avx2" is no way out: it traces 16-wide packets as Embree's ray stream, which
-  // ignores valid[] (rtcore.cpp, rtcOccluded16) and asserts that inactive lanes hold finite rays.
-  constexpr bool split = N == 16 && embree_coherent_occlusion16_may_loop;
+  // detail::embree_coherent_occlusion16_may_loop): embree_trace_packet sends coherent packets as
+  // two coherent 8-wide halves. Of the ways around it (bench/backends/occlusion16_bench.cpp,
+  // bench/README.md), the halves were fastest on Sponza (1.17x the incoherent flag) and a
+  // million-triangle terrain (1.02x), the incoherent flag on the 36-triangle Cornell box (1.38x
+  // the halves); on whole frames the halves make Sponza_lit 2-5% faster and Cornell 5% slower.
   RTCIntersectContext ctx = embree_context<N>(coherence);
   const EmbreeValidLanes<N> valid = embree_valid_lanes(rays, mask);
   // Occlusion needs no hit record: Embree reads and writes the packet in place.
   auto* embree_rays = reinterpret_cast<EmbreeRay*>(&rays);
   if constexpr (N == 1) {
     if (valid[0]) rtcOccluded1(top, &ctx, embree_rays);
-  } else if constexpr (N == 4) {
-    rtcOccluded4(valid.data(), top, &ctx, embree_rays);
-  } else if constexpr (N == 8) {
-    rtcOccluded8(valid.data(), top, &ctx, embree_rays);
-  } else if (split && coherence == Coherence::coherent) {
-    occluded16_as_halves(valid.data(), top, &ctx, *embree_rays);
   } else {
-    rtcOccluded16(valid.data(), top, &ctx, embree_rays);
+    embree_trace_packet<N, false>(valid.data(), top, &ctx, *embree_rays, widths);
   }
   vmask<N> blocked;
   for (int lane = 0; lane < N; ++lane)
