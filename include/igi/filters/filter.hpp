@@ -131,8 +131,10 @@ struct TileGBuffer {
   /// Index of pixel (x, y) in the buffers.
   std::size_t index(int x, int y) const noexcept { return std::size_t(y) * std::size_t(width) + std::size_t(x); }
   /// Copies `columns x rows` pixels of every buffer from `source`'s (source_x, source_y) on to
-  /// this buffer's (x, y) on; both rectangles must lie inside their buffers.
-  void copy_from(const TileGBuffer& source, int source_x, int source_y, int x, int y, int columns, int rows) {
+  /// this buffer's (x, y) on; both rectangles must lie inside their buffers. `with_radiance`
+  /// false leaves `radiance` out: a border needs only what the filters read.
+  void copy_from(const TileGBuffer& source, int source_x, int source_y, int x, int y, int columns, int rows,
+                 bool with_radiance = true) {
     const auto copy = [&](const PixelPlane& from, PixelPlane& to) {
       for (int row = 0; row < rows; ++row) {
         const float* in = from.data() + source.index(source_x, source_y + row);
@@ -146,6 +148,7 @@ struct TileGBuffer {
     };
     for (Vec3Plane TileGBuffer::*planes :
          {&TileGBuffer::irradiance, &TileGBuffer::glossy, &TileGBuffer::albedo, &TileGBuffer::normal, &TileGBuffer::radiance}) {
+      if (planes == &TileGBuffer::radiance && !with_radiance) continue;
       copy((source.*planes).x, (this->*planes).x);
       copy((source.*planes).y, (this->*planes).y);
       copy((source.*planes).z, (this->*planes).z);

@@ -258,7 +258,8 @@ class TileEngine {
         visit(std::size_t(row) * std::size_t(columns) + std::size_t(column));
   }
   /// Copies into the border of tile `i`'s G-buffer the pixels its neighbours shaded (the border
-  /// outside the image stays as sized: zero, "no hit").
+  /// outside the image stays as sized: zero, "no hit"), all but their unfiltered `radiance`,
+  /// which only the tile's own pixels compose.
   void gather_border(std::size_t i) {
     const PixelRect& tile = tiles_[i];
     TileGBuffer& gbuffer = shaded_[i].gbuffer;
@@ -271,7 +272,7 @@ class TileEngine {
       const int x1 = std::min(r.x1, other.x1), y1 = std::min(r.y1, other.y1);
       if (x1 <= x0 || y1 <= y0) return;
       gbuffer.copy_from(shaded_[j].gbuffer, x0 - other.x0 + border, y0 - other.y0 + border, x0 - (tile.x0 - border),
-                        y0 - (tile.y0 - border), x1 - x0, y1 - y0);
+                        y0 - (tile.y0 - border), x1 - x0, y1 - y0, false);
     });
   }
 

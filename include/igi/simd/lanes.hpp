@@ -59,6 +59,10 @@ template <class T, class Mask>
 }
 }  // namespace detail
 
+/// The packet width W of one native register of floats of the build's ISA: 4 (SSE), 8 (AVX2) or
+/// 16 (AVX-512), igi's programs' default.
+inline constexpr int native_packet_width = detail::native_lanes;
+
 /// True for the packet widths igi supports (1, 2, 4, 8, 16, 32 and 64 lanes).
 template <int W>
 concept PacketWidth = W == 1 || W == 2 || W == 4 || W == 8 || W == 16 || W == 32 || W == 64;
