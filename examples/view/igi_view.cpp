@@ -39,7 +39,7 @@ namespace {
 using igi::programs::UsageError;
 
 /// The backends and packet widths the viewer can switch to (each one is a separate Renderer
-/// type), in the cycle of the B key, fastest first on AVX-512 machines.
+/// type), in the cycle of the B key, widest first; the viewer starts at igi::native_packet_width.
 using ViewBackends = igi::programs::BackendList<igi::EmbreeBackend<16>, igi::EmbreeBackend<8>, igi::EmbreeBackend<4>,
                                                 igi::EmbreeBackend<1>, igi::ReferenceBackend<8>, igi::SaarcorBackend>;
 /// The cycle of the B key as names and widths.
@@ -111,7 +111,7 @@ struct Options : igi::programs::SceneOptions {
   std::string animate = "none";          ///< What moves from the first frame: none, light or camera.
   std::string screenshot;                ///< PNG of the last of --frames frames, or empty.
   std::string keys;                      ///< Scripted key presses, one per frame.
-  int packet = 16;                       ///< Packet width at the start.
+  int packet = igi::native_packet_width;  ///< Packet width at the start: one native register, as igi-render's.
   int frames = 0;                        ///< Frames before quitting (0: until closed).
   igi::RenderSettings settings;          ///< The IGI settings at the start.
 };

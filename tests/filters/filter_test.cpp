@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
+#include <thread>
 #include <type_traits>
 #include <vector>
 
@@ -350,6 +351,45 @@ TEST_CASE("filters: AtrousFilter smooths the noise the S x S window leaves on a 
   // correlated neighbours, must take off at least half of what is left.
   CHECK(after_window < before / 5.0);
   CHECK(after_atrous < after_window / 2.0);
+}
+
+TEST_CASE("filters: AtrousFilter's output does not depend on the tiles its thread filtered before", "[filters]") {
+  // Its per-thread stage buffers are kept between tiles of one size and not cleared, so this
+  // holds only if every stage writes all that the next one reads.
+  TileGBuffer g = noisy_wall();
+  for (int y = 0; y < g.height; ++y) {
+    g.normal[g.index(9, y)] = {1, 0, 0};
+    for (int x = 15; x < g.width; ++x) g.depth[g.index(x, y)] = 13.0f;
+    for (int x = 0; x < 12; ++x) g.glossy[g.index(x, y)] = glm::vec3(0.1f * float((x + 3 * y) % 7));
+  }
+  for (int y = 12; y < 14; ++y)  // two rows of misses: sky seen through the wall
+    for (int x = 0; x < g.width; ++x) {
+      const std::size_t i = g.index(x, y);
+      g.hit[i] = 0;
+      g.normal[i] = {0, 0, 0};
+      g.depth[i] = 0.0f;
+      g.irradiance[i] = g.glossy[i] = glm::vec3(0.0f);
+    }
+  const AtrousFilter filter;
+  FilteredTile fresh;
+  std::thread([&] { filter.apply(g, 3, fresh); }).join();  // a new thread's buffers have seen nothing
+  // A wall of the same size whose radiance is NaN everywhere leaves NaN in the stages wherever
+  // the next tile's stages do not write.
+  TileGBuffer poison = wall(24, 24, filter.border(3));
+  for (Vec3Plane* planes : {&poison.irradiance, &poison.glossy})
+    for (std::size_t i = 0; i < planes->size(); ++i) (*planes)[i] = glm::vec3(std::numeric_limits<float>::quiet_NaN());
+  FilteredTile poisoned, after;
+  filter.apply(poison, 3, poisoned);
+  filter.apply(g, 3, after);
+  CHECK(after.irradiance.to_vector() == fresh.irradiance.to_vector());
+  CHECK(after.glossy.to_vector() == fresh.glossy.to_vector());
+  // And the same on the diffuse path (no glossy radiance in the tile).
+  for (std::size_t i = 0; i < g.glossy.size(); ++i) g.glossy[i] = glm::vec3(0.0f);
+  std::thread([&] { filter.apply(g, 3, fresh); }).join();
+  filter.apply(poison, 3, poisoned);
+  filter.apply(g, 3, after);
+  CHECK(after.irradiance.to_vector() == fresh.irradiance.to_vector());
+  for (const glm::vec3& v : after.irradiance.to_vector()) REQUIRE(std::isfinite(v.x + v.y + v.z));
 }
 
 TEST_CASE("filters: AtrousFilter settings out of range are an error", "[filters]") {

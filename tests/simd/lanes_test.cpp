@@ -363,3 +363,24 @@ TEMPLATE_TEST_CASE_SIG("lanes: gather reads active lanes only and zeroes the res
   const vint<W> wild(INT_MAX / 2);
   CHECK(none(gather(table.data(), wild, vmask<W>(false)) != vfloat<W>(0.0f)));
 }
+
+TEST_CASE("lanes: one native packet is one float and one int register of the build's ISA", "[simd][lanes]") {
+  constexpr int W = native_packet_width;
+  STATIC_REQUIRE(vfloat<W>::chunks == 1);
+  STATIC_REQUIRE(vint<W>::chunks == 1);
+  STATIC_REQUIRE(int(vfloat<W>::chunk_type::size()) == W);
+  STATIC_REQUIRE(int(vint<W>::chunk_type::size()) == W);
+#if defined(__AVX512F__)
+  STATIC_REQUIRE(W == 16);
+#elif defined(__AVX2__)
+  STATIC_REQUIRE(W == 8);
+#else
+  // SSE, and plain AVX, whose 8-float registers have no 8-int partner.
+  STATIC_REQUIRE(W == 4);
+#endif
+#if defined(IGI_LANES_TEST_PLAIN_AVX)
+  // This build is the plain-AVX one (tests/simd/CMakeLists.txt): it must be AVX without AVX2.
+  STATIC_REQUIRE(stdx::native_simd<float>::size() == 8);
+  STATIC_REQUIRE(stdx::native_simd<std::int32_t>::size() == 4);
+#endif
+}

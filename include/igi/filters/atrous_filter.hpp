@@ -177,20 +177,33 @@ void window_mean_and_variance(const TileGBuffer& g, int interleave, const SameSu
 /// the work and half the border per pass.
 inline constexpr float atrous_kernel[3] = {0.25f, 0.5f, 0.25f};
 
-/// `variance` at the W pixels from `centre` on, blurred over the 3 x 3 kernel (SVGF's
-/// pre-filter: one pixel's estimate from the S x S window is itself noisy).
+/// cos^128 of the angle between normals `n` and `m` (SVGF's sigma_n = 128, seven squarings): 1
+/// at equal normals, 0.6 at 5 degrees, below 1e-5 at 25 degrees, where the discontinuity buffer
+/// cuts; 0 for back-facing and NaN normals, so always in [0, 1].
 template <int W>
-[[gnu::always_inline]] inline vfloat<W> blurred_variance(const PixelPlane& variance, const TileGBuffer& g, int cx, int cy,
-                                                         std::ptrdiff_t centre) noexcept {
+[[gnu::always_inline]] inline vfloat<W> normal_agreement(const vec3<W>& n, const vec3<W>& m) noexcept {
+  const vfloat<W> cosine = dot(n, m);
+  vfloat<W> agreement = select(cosine > vfloat<W>(0.0f), min(cosine, vfloat<W>(1.0f)), vfloat<W>(0.0f));
+  for (int square = 0; square < 7; ++square) agreement *= agreement;
+  return agreement;
+}
+
+/// `variance` at the W pixels from `centre` on, blurred over the 3 x 3 kernel (SVGF's
+/// pre-filter: one pixel's estimate from the S x S window is itself noisy); `columns[dx + 1]`
+/// holds the lanes whose column offset dx = -1, 0, 1 lies in the buffer.
+template <int W>
+[[gnu::always_inline]] inline vfloat<W> blurred_variance(const PixelPlane& variance, const TileGBuffer& g, int cy,
+                                                         std::ptrdiff_t centre, const vmask<W> (&columns)[3]) noexcept {
   vfloat<W> sum(0.0f), weights(0.0f);
+#pragma GCC unroll 3
   for (int dy = -1; dy <= 1; ++dy) {
     if (cy + dy < 0 || cy + dy >= g.height) continue;
+#pragma GCC unroll 3
     for (int dx = -1; dx <= 1; ++dx) {
-      const vmask<W> inside = columns_inside<W>(cx + dx, g.width);
       const vfloat<W> h(atrous_kernel[dx + 1] * atrous_kernel[dy + 1]);
       const std::ptrdiff_t at = centre + std::ptrdiff_t(dy) * g.width + dx;
-      sum.assign(sum + h * load<W>(variance, at), inside);
-      weights.assign(weights + h, inside);
+      sum.assign(sum + h * load<W>(variance, at), columns[dx + 1]);
+      weights.assign(weights + h, columns[dx + 1]);
     }
   }
   return sum / weights;  // the centre tap is always inside: weights > 0
@@ -206,62 +219,96 @@ void atrous_pass(const TileGBuffer& g, const AtrousSettings& settings, int step,
   // variance) admits only neighbours of its very luminance, without 0/0.
   const vfloat<W> no_variance(1e-20f);
   const vfloat<W> inverse_albedo_sigma2(1.0f / (settings.albedo_sigma * settings.albedo_sigma));
+  // Every tap but the centre lies `step` pixels away (Chebyshev distance).
+  const vfloat<W> inverse_step(1.0f / float(step));
   for (int cy = region.y0; cy < region.y1; ++cy)
     for (int cx = region.x0; cx < region.x1; cx += W) {
       const auto centre = std::ptrdiff_t(g.index(cx, cy));
       const vmask<W> centre_hit = load<W>(g.hit, centre) != zero;
+      if (none(centre_hit)) {
+        // A miss keeps its input, as when no tap is admitted.
+        store(load<W>(in.irradiance, centre), out.irradiance, centre);
+        load<W>(in.irradiance_variance, centre).store(out.irradiance_variance.data() + centre);
+        if constexpr (Glossy) {
+          store(load<W>(in.glossy, centre), out.glossy, centre);
+          load<W>(in.glossy_variance, centre).store(out.glossy_variance.data() + centre);
+        }
+        continue;
+      }
+      // The lanes whose column offset -1, 0, +1 (the variance's blur) and -step, 0, +step (the
+      // taps, for a hit centre) lie in the buffer.
+      const vmask<W> adjacent[3] = {columns_inside<W>(cx - 1, g.width), columns_inside<W>(cx, g.width),
+                                    columns_inside<W>(cx + 1, g.width)};
+      const vmask<W> columns[3] = {centre_hit & columns_inside<W>(cx - step, g.width), centre_hit & adjacent[1],
+                                   centre_hit & columns_inside<W>(cx + step, g.width)};
       const vec3<W> normal = load<W>(g.normal, centre), albedo = load<W>(g.albedo, centre);
       const vfloat<W> depth = load<W>(g.depth, centre);
       const vec3<W> centre_irradiance = load<W>(in.irradiance, centre), centre_glossy = load<W>(in.glossy, centre);
       const vfloat<W> luminance_irradiance = luminance(centre_irradiance), luminance_glossy = luminance(centre_glossy);
       const vfloat<W> sigma(settings.luminance_sigma);
       const vfloat<W> inverse_spread_irradiance =
-          one / (sigma * sqrt(blurred_variance<W>(in.irradiance_variance, g, cx, cy, centre)) + no_variance);
+          one / (sigma * sqrt(blurred_variance<W>(in.irradiance_variance, g, cy, centre, adjacent)) + no_variance);
       vfloat<W> inverse_spread_glossy(0.0f);
       if constexpr (Glossy)
-        inverse_spread_glossy = one / (sigma * sqrt(blurred_variance<W>(in.glossy_variance, g, cx, cy, centre)) + no_variance);
+        inverse_spread_glossy = one / (sigma * sqrt(blurred_variance<W>(in.glossy_variance, g, cy, centre, adjacent)) + no_variance);
       // The depth test's scale per pixel of distance, one division per pixel instead of per tap.
       const vfloat<W> inverse_depth_scale = one / (vfloat<W>(settings.depth_sigma) * abs(depth));
       vec3<W> irradiance(glm::vec3(0.0f)), glossy(glm::vec3(0.0f));
       vfloat<W> weight_irradiance(0.0f), weight_glossy(0.0f), variance_irradiance(0.0f), variance_glossy(0.0f);
+      // Adds a tap of `value` with `weight` (and its `variance`) on the lanes of `take` where the
+      // weight is > 0. Weights are finite and >= 0: the kernel times an agreement in [0, 1]
+      // times e^-x in [0, 1], which is 0 for a NaN exponent (infinite or NaN depths, albedos or
+      // irradiance).
+      const auto add_tap = [&](const vec3<W>& value, const vfloat<W>& weight, const vfloat<W>& variance, const vmask<W>& take,
+                               vec3<W>& sum, vfloat<W>& weights, vfloat<W>& variances) __attribute__((always_inline)) {
+        const vmask<W> admitted = take & (weight > zero);
+        sum.assign(sum + value * weight, admitted);
+        weights.assign(weights + weight, admitted);
+        variances.assign(variances + weight * weight * variance, admitted);
+      };
+      // Unrolled, the taps' offsets, kernel weights and the centre's special case are constants.
+#pragma GCC unroll 3
       for (int ty = -1; ty <= 1; ++ty) {
         const int ny = cy + ty * step;
         if (ny < 0 || ny >= g.height) continue;
+#pragma GCC unroll 3
         for (int tx = -1; tx <= 1; ++tx) {
+          const vfloat<W> h(atrous_kernel[tx + 1] * atrous_kernel[ty + 1]);
+          if (tx == 0 && ty == 0) {
+            // The centre itself: its albedo and luminance differences (no depth term at distance
+            // 0) are zero, or NaN where its albedo or radiance is not finite, so its exponent is 0
+            // (weight e^0 = 1 times kernel and agreement) or NaN (no weight), as the general tap
+            // below would find, without the exponential.
+            const vfloat<W> geometric = h * normal_agreement(normal, normal);
+            const vfloat<W> exponent = length_squared(albedo - albedo) * inverse_albedo_sigma2;
+            const vfloat<W> we =
+                keep(geometric, exponent + abs(luminance_irradiance - luminance_irradiance) * inverse_spread_irradiance == zero);
+            add_tap(centre_irradiance, we, load<W>(in.irradiance_variance, centre), columns[1], irradiance, weight_irradiance,
+                    variance_irradiance);
+            if constexpr (Glossy) {
+              const vfloat<W> ws =
+                  keep(geometric, exponent + abs(luminance_glossy - luminance_glossy) * inverse_spread_glossy == zero);
+              add_tap(centre_glossy, ws, load<W>(in.glossy_variance, centre), columns[1], glossy, weight_glossy,
+                      variance_glossy);
+            }
+            continue;
+          }
           const std::ptrdiff_t neighbour = centre + std::ptrdiff_t(ty * step) * g.width + tx * step;
-          const vmask<W> take = centre_hit & columns_inside<W>(cx + tx * step, g.width) & (load<W>(g.hit, neighbour) != zero);
+          const vmask<W> take = columns[tx + 1] & (load<W>(g.hit, neighbour) != zero);
           if (none(take)) continue;
-          // Normals: cos^128 (SVGF's sigma_n = 128, seven squarings): 1 at equal normals, 0.6
-          // at 5 degrees, below 1e-5 at 25 degrees, where the discontinuity buffer cuts.
-          const vec3<W> n = load<W>(g.normal, neighbour);
-          vfloat<W> agreement = dot(normal, n);
-          agreement = select(agreement > zero, min(agreement, one), zero);  // NaN and back-facing give 0
-          for (int square = 0; square < 7; ++square) agreement *= agreement;
-          // Depth per pixel of distance (Chebyshev, the tap's step on both axes), albedo and
-          // luminance in one exponent: e^-(a+b+c) is one exponential per tap.
-          const int distance = std::max(std::abs(tx), std::abs(ty)) * step;
-          vfloat<W> exponent(0.0f);
-          if (distance > 0)
-            exponent = abs(load<W>(g.depth, neighbour) - depth) * inverse_depth_scale * vfloat<W>(1.0f / float(distance));
+          const vfloat<W> geometric = h * normal_agreement(normal, load<W>(g.normal, neighbour));
+          // Depth per pixel of distance, albedo and luminance in one exponent: e^-(a+b+c) is
+          // one exponential per tap.
+          vfloat<W> exponent = abs(load<W>(g.depth, neighbour) - depth) * inverse_depth_scale * inverse_step;
           exponent += length_squared(load<W>(g.albedo, neighbour) - albedo) * inverse_albedo_sigma2;
           const vec3<W> e = load<W>(in.irradiance, neighbour);
-          const vfloat<W> h(atrous_kernel[tx + 1] * atrous_kernel[ty + 1]);
-          const vfloat<W> geometric = h * agreement;
-          const vfloat<W> exponent_irradiance = exponent + abs(luminance(e) - luminance_irradiance) * inverse_spread_irradiance;
-          // A weight that is not a number >= 0 (infinite or NaN depths and normals) counts as 0.
-          const vfloat<W> we = geometric * exp_negative(exponent_irradiance);
-          const vmask<W> take_irradiance = take & (we > zero) & isfinite(we);
-          irradiance.assign(irradiance + e * we, take_irradiance);
-          weight_irradiance.assign(weight_irradiance + we, take_irradiance);
-          variance_irradiance.assign(variance_irradiance + we * we * load<W>(in.irradiance_variance, neighbour), take_irradiance);
+          const vfloat<W> we =
+              geometric * exp_negative(exponent + abs(luminance(e) - luminance_irradiance) * inverse_spread_irradiance);
+          add_tap(e, we, load<W>(in.irradiance_variance, neighbour), take, irradiance, weight_irradiance, variance_irradiance);
           if constexpr (Glossy) {
             const vec3<W> s = load<W>(in.glossy, neighbour);
-            const vfloat<W> exponent_glossy = exponent + abs(luminance(s) - luminance_glossy) * inverse_spread_glossy;
-            const vfloat<W> ws = geometric * exp_negative(exponent_glossy);
-            const vmask<W> take_glossy = take & (ws > zero) & isfinite(ws);
-            glossy.assign(glossy + s * ws, take_glossy);
-            weight_glossy.assign(weight_glossy + ws, take_glossy);
-            variance_glossy.assign(variance_glossy + ws * ws * load<W>(in.glossy_variance, neighbour), take_glossy);
+            const vfloat<W> ws = geometric * exp_negative(exponent + abs(luminance(s) - luminance_glossy) * inverse_spread_glossy);
+            add_tap(s, ws, load<W>(in.glossy_variance, neighbour), take, glossy, weight_glossy, variance_glossy);
           }
         }
       }
@@ -317,7 +364,10 @@ class AtrousFilter {
     // Per-thread scratch: the filter is shared by the pipeline's threads, and tiles reuse the memory.
     thread_local filter_detail::AtrousStage stages[2];
     const std::size_t pixels = std::size_t(gbuffer.width) * std::size_t(gbuffer.height);
-    for (auto& stage : stages) stage.assign(pixels);
+    // Sized when the tile size changes, never cleared: each stage writes every pixel the next
+    // one reads (see the file's comment), so nothing a previous tile left reaches the image.
+    for (auto& stage : stages)
+      if (stage.irradiance_variance.size() != pixels) stage.assign(pixels);
     // Diffuse tiles (no glossy lobe in sight) skip the glossy planes: filtering zeros gives zeros,
     // already in `out`, and the work per tap halves.
     if (filter_detail::all_zero(gbuffer.glossy))

@@ -242,9 +242,10 @@ class ImportanceVplSampler {
       // least_gain: its weights and the walks it drops would cost more than it brings, so these
       // are QmcVplSampler's VPLs, every candidate kept.
       const int exact_count = int(exact.size());
-      ImportanceVplGeneration qmc{.generation = QmcVplSampler{}.generate_with_origins(scene, tracer, shader, brdf, settings),
-                                  .view_points = out.view_points,
-                                  .qmc_acceptance = out.qmc_acceptance};
+      ImportanceVplGeneration qmc;
+      qmc.generation = QmcVplSampler{}.generate_with_origins(scene, tracer, shader, brdf, settings);
+      qmc.view_points = out.view_points;
+      qmc.qmc_acceptance = out.qmc_acceptance;
       for (const auto& set : qmc.generation.vpls.sets) {
         qmc.probability.emplace_back(set.size(), 1.0f);
         qmc.candidates += int(set.size()) - exact_count;

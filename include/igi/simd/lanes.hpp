@@ -13,6 +13,7 @@
 /// `[[gnu::always_inline]]`, and so is every lambda handed to `lanewise` (GNU attribute syntax:
 /// `[[gnu::always_inline]]` in that place would apply to the lambda's type, not its call operator).
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <experimental/simd>
@@ -35,10 +36,12 @@ namespace igi {
 namespace stdx = std::experimental;
 
 namespace detail {
-/// Lanes of one native register of floats on the target: 4 (SSE), 8 (AVX2) or 16 (AVX-512).
-inline constexpr int native_lanes = int(stdx::native_simd<float>::size());
-static_assert(int(stdx::native_simd<std::int32_t>::size()) == native_lanes,
-              "int and float registers must hold the same number of lanes (true from SSE2 on, except plain AVX)");
+/// Lanes of one native register on the target, for floats and 32-bit integers alike: 4 (SSE),
+/// 8 (AVX2) or 16 (AVX-512). Plain AVX (Sandy and Ivy Bridge) has 8-float but only 4-int
+/// registers; a packet's chunks must pair one float with one int register (masks and bit casts
+/// convert between them), so there it is 4, the width both have.
+inline constexpr int native_lanes =
+    int(std::min(stdx::native_simd<float>::size(), stdx::native_simd<std::int32_t>::size()));
 /// Lanes in one chunk of a W-lane packet.
 template <int W>
 inline constexpr int chunk_lanes = W < native_lanes ? W : native_lanes;
