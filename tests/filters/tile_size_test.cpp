@@ -10,6 +10,9 @@
 #include <cstring>
 #include <mutex>
 
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "igi/render/filter_choice.hpp"
 #include "policy_lists.hpp"
 #include "render/render_support.hpp"
 
@@ -46,14 +49,14 @@ TEMPLATE_LIST_TEST_CASE("filters: every filter's image is the same whatever the 
   }
 }
 
-TEMPLATE_LIST_TEST_CASE("filters: tiles that share their borders give the bordered tiles' image", "[filters][render]",
-                        AllFilters) {
-  // TileEngine::render_frame (what Renderer uses) shades every pixel once and reads each tile's
-  // border from its neighbours; render_tiles (what each MPI rank does) shades every tile with its
-  // own border. The filter reads the same G-buffer values either way, so the images must agree
-  // bit for bit, over two frames (the image's G-buffer is reused), with anti-aliasing, shadow
-  // roulette and bias compensation, whose random numbers are hashed from the pixel.
+/// render_frame against render_tiles with `filter` on the Cornell box (its red wall glossy metal with `glossy_wall`).
+template <class F>
+void check_shared_borders(const F& filter, bool glossy_wall) {
   Scene scene = cornell_box();
+  if (glossy_wall) {
+    scene.materials[1].metallic = 1.0f;  // 1: the red wall
+    scene.materials[1].roughness = 0.5f;
+  }
   RenderSettings settings;
   settings.width = 83;  // partial tiles at the right and bottom
   settings.height = 61;
@@ -66,8 +69,7 @@ TEMPLATE_LIST_TEST_CASE("filters: tiles that share their borders give the border
   const GltfMaterialShader surface(scene);
   const QmcVplSampler sampler;
   const StandardBrdf brdf;
-  const TestType filter;
-  TileEngine<EmbreeBackend<8>, GltfMaterialShader, StandardBrdf, QmcVplSampler, TestType> engine(scene, settings, surface,
+  TileEngine<EmbreeBackend<8>, GltfMaterialShader, StandardBrdf, QmcVplSampler, F> engine(scene, settings, surface,
                                                                                                brdf, sampler, filter);
   const auto render = [&](bool shared_borders, RayCounts& rays) {
     Frame frame = Frame::blank(settings.width, settings.height, engine.frame().index);
@@ -83,9 +85,14 @@ TEMPLATE_LIST_TEST_CASE("filters: tiles that share their borders give the border
       engine.render_tiles(engine.all_tiles(), done);
     return frame;
   };
-  for (const std::uint32_t index : {0u, 1u}) {
-    INFO(TestType::name() << ", frame " << index);
-    engine.begin_frame(scene.cameras.front(), index, ToneMapping{});
+  for (const std::uint32_t index : {0u, 1u, 2u}) {
+    INFO(filter.name() << ", frame " << index);
+    // Frames 1 and 2 turn the camera by 0.25 radians (a quarter of the image) either way, so
+    // tiles that filtered the glossy wall in the frame before no longer see it, and the reverse.
+    Camera camera = scene.cameras.front();
+    const float turn[] = {0.0f, 0.25f, -0.25f};
+    camera.camera_to_world = camera.camera_to_world * glm::rotate(glm::mat4(1.0f), turn[index], glm::vec3(0.0f, 1.0f, 0.0f));
+    engine.begin_frame(camera, index, ToneMapping{});
     RayCounts bordered_rays, shared_rays;
     const Frame bordered = render(false, bordered_rays);
     const Frame shared = render(true, shared_rays);
@@ -99,5 +106,34 @@ TEMPLATE_LIST_TEST_CASE("filters: tiles that share their borders give the border
     // through); the bordered tiles shade their borders as well.
     CHECK(shared_rays.primary == std::uint64_t(settings.width * settings.height * settings.antialiasing));
     if (filter.border(settings.interleave) > 0) CHECK(bordered_rays.primary > shared_rays.primary);
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE("filters: tiles that share their borders give the bordered tiles' image", "[filters][render]",
+                        AllFilters) {
+  // TileEngine::render_frame (what Renderer uses) shades every pixel once and reads each tile's
+  // border from its neighbours; render_tiles (what each MPI rank does) shades every tile with its
+  // own border. The filter reads the same G-buffer values either way, so the images must agree
+  // bit for bit, over three frames (the image's G-buffer is reused), with anti-aliasing, shadow
+  // roulette and bias compensation, whose random numbers are hashed from the pixel. A staged
+  // filter (AtrousFilter) also copies each stage's border from the neighbours' stages; with the
+  // red wall glossy, tiles that filter glossy radiance border tiles that do not.
+  for (const bool glossy_wall : {false, true}) {
+    INFO((glossy_wall ? "glossy red wall" : "diffuse Cornell box"));
+    check_shared_borders(TestType{}, glossy_wall);
+  }
+}
+
+TEST_CASE("filters: FilterChoice runs its filter's stages as the filter alone does", "[filters][render]") {
+  // The programs' run-time choice is itself a StagedFilter that forwards AtrousFilter's stages
+  // (and runs the others whole in its one stage), so igi-render's frames share the stages too.
+  STATIC_REQUIRE(StagedFilter<AtrousFilter>);
+  STATIC_REQUIRE(StagedFilter<FilterChoice>);
+  STATIC_REQUIRE(!StagedFilter<DiscontinuityFilter>);
+  CHECK(FilterChoice("atrous").stage_count() == AtrousFilter().stage_count());
+  CHECK(FilterChoice("discontinuity").stage_count() == 1);
+  for (const char* name : {"atrous", "discontinuity"}) {
+    INFO(name);
+    check_shared_borders(FilterChoice(name), true);
   }
 }

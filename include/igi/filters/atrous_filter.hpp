@@ -18,8 +18,10 @@
 ///
 /// Every stage works on the part of the tile's buffer the later stages read, so the output of
 /// an interior pixel depends only on the G-buffer within `border(S)` of it: with that border
-/// rendered, the image does not depend on the tile size. All stages run over SoA rows in SIMD,
-/// lane-wise, so the result does not depend on the lane count either.
+/// rendered, the image does not depend on the tile size. The same holds stage by stage, which
+/// lets one process's tiles compute each stage over their own pixels only and copy its border
+/// from their neighbours' (StagedFilter). All stages run over SoA rows in SIMD, lane-wise, so the
+/// result does not depend on the lane count either.
 
 #include <algorithm>
 #include <cmath>
@@ -94,12 +96,21 @@ struct AtrousStage {
   Vec3Plane glossy;              ///< Glossy radiance.
   PixelPlane irradiance_variance;  ///< Variance of the irradiance's luminance.
   PixelPlane glossy_variance;      ///< Variance of the glossy radiance's luminance.
-  /// Sizes every plane to `pixels`.
-  void assign(std::size_t pixels) {
-    irradiance.assign(pixels);
-    glossy.assign(pixels);
-    irradiance_variance.assign(pixels);
-    glossy_variance.assign(pixels);
+  int width = 0;                   ///< Pixels per row (the tile buffer's).
+  /// Sizes the planes to `pixels` in rows of `row_width`, the glossy ones only with `glossy` (a
+  /// diffuse tile's stages need half the memory); planes of another size are set to zero.
+  void size(std::size_t pixels, int row_width, bool with_glossy) {
+    if (irradiance_variance.size() != pixels || width != row_width) {
+      width = row_width;
+      irradiance.assign(pixels);
+      irradiance_variance.assign(pixels);
+      glossy.assign(0);
+      glossy_variance.assign(0);
+    }
+    if (with_glossy && glossy_variance.size() != pixels) {
+      glossy.assign(pixels);
+      glossy_variance.assign(pixels);
+    }
   }
 };
 
@@ -243,7 +254,9 @@ void atrous_pass(const TileGBuffer& g, const AtrousSettings& settings, int step,
                                    centre_hit & columns_inside<W>(cx + step, g.width)};
       const vec3<W> normal = load<W>(g.normal, centre), albedo = load<W>(g.albedo, centre);
       const vfloat<W> depth = load<W>(g.depth, centre);
-      const vec3<W> centre_irradiance = load<W>(in.irradiance, centre), centre_glossy = load<W>(in.glossy, centre);
+      const vec3<W> centre_irradiance = load<W>(in.irradiance, centre);
+      // Without Glossy the glossy planes may be unsized (AtrousStage::size): never read them.
+      const vec3<W> centre_glossy = Glossy ? load<W>(in.glossy, centre) : vec3<W>(glm::vec3(0.0f));
       const vfloat<W> luminance_irradiance = luminance(centre_irradiance), luminance_glossy = luminance(centre_glossy);
       const vfloat<W> sigma(settings.luminance_sigma);
       const vfloat<W> inverse_spread_irradiance =
@@ -330,12 +343,26 @@ void atrous_pass(const TileGBuffer& g, const AtrousSettings& settings, int step,
 
 }  // namespace filter_detail
 
+/// The stage outputs a tile of AtrousFilter keeps while its neighbours read them, in stages
+/// (AtrousFilter::run_stage): stage k writes `buffers[k % 2]`, which stage k+1 of the tile and of
+/// its neighbours read while stage k+1 writes the other.
+struct AtrousTileStages {
+  filter_detail::AtrousStage buffers[2];  ///< Ping-pong stage outputs, laid out as the tile's G-buffer.
+  /// Whether this frame's stages filter glossy radiance (otherwise its glossy planes are stale
+  /// or unsized, and its neighbours take zeros for them).
+  bool glossy = false;
+};
+
 /// The edge-avoiding à-trous filter, variance-guided (see the file's comment): smoother than the
 /// discontinuity buffer where few strong VPLs leave blotches, at the price of a wider border.
+/// It runs whole per tile (`apply`, a farm's bordered tiles) or in stages over tiles that share
+/// their borders (StagedFilter: one process's frame), with the same result.
 class AtrousFilter {
  public:
   /// Its settings type.
   using Settings = AtrousSettings;
+  /// What a tile keeps between stages.
+  using TileStages = AtrousTileStages;
   /// Most passes: 5 reach 31 pixels, beyond any tile's use, and keep every row read within
   /// PixelPlane::padding (31 + 16 lanes < 64).
   static constexpr int max_passes = 5;
@@ -360,46 +387,104 @@ class AtrousFilter {
   /// Filters the interior of `gbuffer` into `out`; throws std::invalid_argument on inconsistent input.
   void apply(const TileGBuffer& gbuffer, int interleave, FilteredTile& out) const {
     filter_detail::prepare_filter("AtrousFilter", gbuffer, interleave, out);
-    constexpr int W = filter_detail::row_lanes;
     // Per-thread scratch: the filter is shared by the pipeline's threads, and tiles reuse the memory.
     thread_local filter_detail::AtrousStage stages[2];
-    const std::size_t pixels = std::size_t(gbuffer.width) * std::size_t(gbuffer.height);
-    // Sized when the tile size changes, never cleared: each stage writes every pixel the next
-    // one reads (see the file's comment), so nothing a previous tile left reaches the image.
-    for (auto& stage : stages)
-      if (stage.irradiance_variance.size() != pixels) stage.assign(pixels);
     // Diffuse tiles (no glossy lobe in sight) skip the glossy planes: filtering zeros gives zeros,
     // already in `out`, and the work per tap halves.
-    if (filter_detail::all_zero(gbuffer.glossy))
-      filter<W, false>(gbuffer, interleave, stages, out);
-    else
-      filter<W, true>(gbuffer, interleave, stages, out);
+    const bool glossy = !filter_detail::all_zero(gbuffer.glossy);
+    size_stages(gbuffer, glossy, stages);
+    for (int stage = 0; stage < stage_count(); ++stage) {
+      // Stage k's output is read by the later passes within their steps' sum: 2^passes - 2^k.
+      const filter_detail::BufferRegion region =
+          filter_detail::grown_interior(gbuffer, reach(settings_.passes) - reach(stage));
+      compute_stage(stage, gbuffer, interleave, glossy, region, stages[(stage + 1) % 2], stages[stage % 2]);
+    }
+    write_interior(gbuffer, stages[settings_.passes % 2], glossy, out);
+  }
+
+  /// Stages: the S x S window, then one per pass.
+  int stage_count() const noexcept { return settings_.passes + 1; }
+  /// Pixels around a tile of stage `stage - 1`'s output that stage `stage` > 0 reads: its taps'
+  /// step 2^(stage-1), which covers the variance's 3 x 3 blur.
+  int stage_reach(int stage) const noexcept { return stage > 0 ? 1 << (stage - 1) : 0; }
+  /// Stage `stage` over the interior of `gbuffer` (StagedFilter); stage 0 checks the input
+  /// (std::invalid_argument) and sizes `tile`'s buffers.
+  void run_stage(int stage, const TileGBuffer& gbuffer, int interleave, TileStages& tile) const {
+    if (stage == 0) {
+      filter_detail::check_filter_input("AtrousFilter", gbuffer, interleave);
+      tile.glossy = !filter_detail::all_zero(gbuffer.glossy);
+      size_stages(gbuffer, tile.glossy, tile.buffers);
+    }
+    compute_stage(stage, gbuffer, interleave, tile.glossy, filter_detail::grown_interior(gbuffer, 0),
+                  tile.buffers[(stage + 1) % 2], tile.buffers[stage % 2]);
+  }
+  /// Copies `block` of `neighbour`'s stage `stage` output into `tile`'s (StagedFilter): its glossy
+  /// planes only where `tile` filters glossy radiance, zero from a neighbour that does not.
+  void copy_stage(int stage, const TileStages& neighbour, const BlockCopy& block, TileStages& tile) const {
+    const filter_detail::AtrousStage& from = neighbour.buffers[stage % 2];
+    filter_detail::AtrousStage& to = tile.buffers[stage % 2];
+    const int from_width = from.width, to_width = to.width;
+    copy_block(from.irradiance, from_width, to.irradiance, to_width, block);
+    copy_block(from.irradiance_variance, from_width, to.irradiance_variance, to_width, block);
+    if (!tile.glossy) return;
+    if (neighbour.glossy) {
+      copy_block(from.glossy, from_width, to.glossy, to_width, block);
+      copy_block(from.glossy_variance, from_width, to.glossy_variance, to_width, block);
+      return;
+    }
+    // A tile whose G-buffer (border included) has no glossy radiance would have filtered it to
+    // exactly zero: zeros in, zero variance, and a weighted mean of zeros.
+    for (int row = 0; row < block.rows; ++row)
+      for (PixelPlane* plane : {&to.glossy.x, &to.glossy.y, &to.glossy.z, &to.glossy_variance}) {
+        float* out = plane->data() + std::size_t(block.y + row) * std::size_t(to_width) + std::size_t(block.x);
+        std::fill_n(out, block.columns, 0.0f);
+      }
+  }
+  /// The last stage's result for the interior of `gbuffer` into `out` (StagedFilter).
+  void finish(const TileGBuffer& gbuffer, const TileStages& tile, FilteredTile& out) const {
+    filter_detail::prepare_filter("AtrousFilter", gbuffer, 1, out);  // 1: stage 0 checked the interleave
+    write_interior(gbuffer, tile.buffers[settings_.passes % 2], tile.glossy, out);
   }
 
  private:
-  /// The stages over `gbuffer` into `out`, with the glossy radiance or (`Glossy` false) without.
-  template <int W, bool Glossy>
-  void filter(const TileGBuffer& gbuffer, int interleave, filter_detail::AtrousStage (&stages)[2], FilteredTile& out) const {
-    const filter_detail::SameSurface<W> same_surface{&gbuffer, window_.cos_max_angle(),
-                                                     settings_.window.max_relative_depth};
-    filter_detail::window_mean_and_variance<W, Glossy>(
-        gbuffer, interleave, same_surface, filter_detail::grown_interior(gbuffer, reach(settings_.passes)), stages[0]);
-    int current = 0;
-    for (int pass = 0; pass < settings_.passes; ++pass) {
-      // Pass k's output is read by passes k+1.. within their steps' sum: 2^passes - 2^(k+1).
-      const int later = reach(settings_.passes) - reach(pass + 1);
-      filter_detail::atrous_pass<W, Glossy>(gbuffer, settings_, 1 << pass, filter_detail::grown_interior(gbuffer, later),
-                                            stages[current], stages[1 - current]);
-      current = 1 - current;
-    }
-    const filter_detail::AtrousStage& result = stages[current];
+  /// Sizes `stages` to `gbuffer`'s pixels (their glossy planes too with `glossy`), zero where
+  /// their size changes. They are never cleared otherwise: each stage writes every pixel the
+  /// next one reads (see the file's comment), so nothing a previous tile left reaches the image.
+  static void size_stages(const TileGBuffer& gbuffer, bool glossy, filter_detail::AtrousStage (&stages)[2]) {
+    const std::size_t pixels = std::size_t(gbuffer.width) * std::size_t(gbuffer.height);
+    for (auto& stage : stages) stage.size(pixels, gbuffer.width, glossy);
+  }
+  /// Stage `stage` over `region`: the window from the G-buffer (stage 0) or pass `stage - 1`
+  /// from `in`, into `out`, with the glossy radiance or (`glossy` false) without.
+  void compute_stage(int stage, const TileGBuffer& gbuffer, int interleave, bool glossy,
+                     const filter_detail::BufferRegion& region, const filter_detail::AtrousStage& in,
+                     filter_detail::AtrousStage& out) const {
+    constexpr int W = filter_detail::row_lanes;
+    const auto run = [&]<bool Glossy>() {
+      if (stage == 0) {
+        const filter_detail::SameSurface<W> same_surface{&gbuffer, window_.cos_max_angle(),
+                                                         settings_.window.max_relative_depth};
+        filter_detail::window_mean_and_variance<W, Glossy>(gbuffer, interleave, same_surface, region, out);
+      } else {
+        filter_detail::atrous_pass<W, Glossy>(gbuffer, settings_, 1 << (stage - 1), region, in, out);
+      }
+    };
+    if (glossy)
+      run.template operator()<true>();
+    else
+      run.template operator()<false>();
+  }
+  /// The interior of `result` into `out` (the glossy planes only when `glossy`: they stay zero otherwise).
+  static void write_interior(const TileGBuffer& gbuffer, const filter_detail::AtrousStage& result, bool glossy,
+                             FilteredTile& out) {
+    constexpr int W = filter_detail::row_lanes;
     for (int y = 0; y < out.height; ++y)
       for (int x = 0; x < out.width; x += W) {
         const auto from = std::ptrdiff_t(gbuffer.index(x + gbuffer.border, y + gbuffer.border));
         const auto to = std::ptrdiff_t(y) * out.width + x;
         // Misses get zero, as in the discontinuity buffer (the passes leave a miss's input, already zero).
         filter_detail::store(filter_detail::load<W>(result.irradiance, from), out.irradiance, to);
-        if constexpr (Glossy) filter_detail::store(filter_detail::load<W>(result.glossy, from), out.glossy, to);
+        if (glossy) filter_detail::store(filter_detail::load<W>(result.glossy, from), out.glossy, to);
       }
   }
 

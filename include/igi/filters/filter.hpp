@@ -101,6 +101,36 @@ class Vec3Plane {
   }
 };
 
+/// A rectangle of `columns x rows` pixels copied from (source_x, source_y) of one row-major tile
+/// buffer to (x, y) of another.
+struct BlockCopy {
+  int source_x = 0;  ///< First column read.
+  int source_y = 0;  ///< First row read.
+  int x = 0;         ///< First column written.
+  int y = 0;         ///< First row written.
+  int columns = 0;   ///< Pixels per row.
+  int rows = 0;      ///< Rows.
+};
+
+/// Copies `block` from `from`, `from_width` pixels a row, into `to`, `to_width` pixels a row.
+inline void copy_block(const PixelPlane& from, int from_width, PixelPlane& to, int to_width, const BlockCopy& block) {
+  for (int row = 0; row < block.rows; ++row) {
+    const float* in = from.data() + std::size_t(block.source_y + row) * std::size_t(from_width) + std::size_t(block.source_x);
+    float* out = to.data() + std::size_t(block.y + row) * std::size_t(to_width) + std::size_t(block.x);
+    // A border's columns are a pixel or a few wide: a call to memmove per row would cost more than the copy.
+    if (block.columns <= 8)
+      for (int column = 0; column < block.columns; ++column) out[column] = in[column];
+    else
+      std::copy_n(in, block.columns, out);
+  }
+}
+/// copy_block on each of the three planes.
+inline void copy_block(const Vec3Plane& from, int from_width, Vec3Plane& to, int to_width, const BlockCopy& block) {
+  copy_block(from.x, from_width, to.x, to_width, block);
+  copy_block(from.y, from_width, to.y, to_width, block);
+  copy_block(from.z, from_width, to.z, to_width, block);
+}
+
 /// Per-pixel buffers of one tile plus its border, row-major, `width x height` including border.
 /// With anti-aliasing each entry is the average over the pixel's primary rays.
 struct TileGBuffer {
@@ -130,31 +160,17 @@ struct TileGBuffer {
   }
   /// Index of pixel (x, y) in the buffers.
   std::size_t index(int x, int y) const noexcept { return std::size_t(y) * std::size_t(width) + std::size_t(x); }
-  /// Copies `columns x rows` pixels of every buffer from `source`'s (source_x, source_y) on to
-  /// this buffer's (x, y) on; both rectangles must lie inside their buffers. `with_radiance`
-  /// false leaves `radiance` out: a border needs only what the filters read.
-  void copy_from(const TileGBuffer& source, int source_x, int source_y, int x, int y, int columns, int rows,
-                 bool with_radiance = true) {
-    const auto copy = [&](const PixelPlane& from, PixelPlane& to) {
-      for (int row = 0; row < rows; ++row) {
-        const float* in = from.data() + source.index(source_x, source_y + row);
-        float* out = to.data() + index(x, y + row);
-        // A border's columns are a pixel or a few wide: a call to memmove per row would cost more than the copy.
-        if (columns <= 8)
-          for (int column = 0; column < columns; ++column) out[column] = in[column];
-        else
-          std::copy_n(in, columns, out);
-      }
-    };
+  /// Copies `block` of every buffer from `source` into this one (both rectangles must lie inside
+  /// their buffers). `with_radiance` false leaves `radiance` out: a border needs only what the
+  /// filters read.
+  void copy_from(const TileGBuffer& source, const BlockCopy& block, bool with_radiance = true) {
     for (Vec3Plane TileGBuffer::*planes :
          {&TileGBuffer::irradiance, &TileGBuffer::glossy, &TileGBuffer::albedo, &TileGBuffer::normal, &TileGBuffer::radiance}) {
       if (planes == &TileGBuffer::radiance && !with_radiance) continue;
-      copy((source.*planes).x, (this->*planes).x);
-      copy((source.*planes).y, (this->*planes).y);
-      copy((source.*planes).z, (this->*planes).z);
+      copy_block(source.*planes, source.width, this->*planes, width, block);
     }
-    copy(source.depth, depth);
-    copy(source.hit, hit);
+    copy_block(source.depth, source.width, depth, width, block);
+    copy_block(source.hit, source.width, hit, width, block);
   }
 };
 
@@ -179,6 +195,39 @@ concept Filter = requires(const F& filter, const TileGBuffer& gbuffer, int inter
   { F::name() } -> std::convertible_to<const char*>;
   { filter.border(interleave) } -> std::convertible_to<int>;
   { filter.apply(gbuffer, interleave, out) } -> std::same_as<void>;
+};
+
+/// A Filter that can also run as a cascade of `stage_count()` stages over the tiles of one
+/// process, which share their borders (TileEngine::render_frame), each stage computing only the
+/// tile's own pixels: `run_stage(0, ...)` reads the tile's G-buffer, border included;
+/// `run_stage(k, ...)` for k > 0 reads stage k-1's output within `stage_reach(k)` pixels of the
+/// tile, which the caller first copies into the tile's border from its neighbours' own stage k-1
+/// output with `copy_stage(k - 1, neighbour, block, tile)`; `finish` writes the last stage's
+/// result. A stage leaves the border of its own output for the next stage's copies to fill (and
+/// zero outside the image), so the result is `apply`'s, pixel for pixel, with no pixel filtered
+/// again for every tile whose border holds it.
+template <class F>
+concept StagedFilter =
+    Filter<F> && std::default_initializable<typename F::TileStages> &&
+    requires(const F& filter, const TileGBuffer& gbuffer, int interleave, int stage, typename F::TileStages& tile,
+             const typename F::TileStages& neighbour, const BlockCopy& block, FilteredTile& out) {
+      { filter.stage_count() } -> std::convertible_to<int>;
+      { filter.stage_reach(stage) } -> std::convertible_to<int>;
+      { filter.run_stage(stage, gbuffer, interleave, tile) } -> std::same_as<void>;
+      { filter.copy_stage(stage, neighbour, block, tile) } -> std::same_as<void>;
+      { filter.finish(gbuffer, tile, out) } -> std::same_as<void>;
+    };
+
+/// What a tile keeps between the stages of filter `F`: `F::TileStages` for a StagedFilter,
+/// an empty type for the others (which run whole, Filter::apply).
+template <class F>
+struct FilterStages {
+  struct type {};  ///< Nothing.
+};
+/// A StagedFilter's tile stages.
+template <StagedFilter F>
+struct FilterStages<F> {
+  using type = typename F::TileStages;  ///< Its type.
 };
 
 }  // namespace igi

@@ -35,8 +35,8 @@ namespace filter_detail {
 /// SSE, 8 with AVX2, 16 with AVX-512), the width at which a row operation costs one instruction.
 inline constexpr int row_lanes = detail::native_lanes;
 
-/// Throws std::invalid_argument unless `gbuffer` is consistent and `interleave` >= 1; sizes `out`.
-inline void prepare_filter(const char* filter, const TileGBuffer& gbuffer, int interleave, FilteredTile& out) {
+/// Throws std::invalid_argument unless `gbuffer` is consistent and `interleave` >= 1.
+inline void check_filter_input(const char* filter, const TileGBuffer& gbuffer, int interleave) {
   const auto fail = [&](const std::string& what) { throw std::invalid_argument(std::string(filter) + ": " + what); };
   if (interleave < 1) fail("interleave must be at least 1, got " + std::to_string(interleave));
   if (gbuffer.width < 0 || gbuffer.height < 0 || gbuffer.border < 0)
@@ -49,6 +49,10 @@ inline void prepare_filter(const char* filter, const TileGBuffer& gbuffer, int i
   if (gbuffer.irradiance.size() != n || gbuffer.glossy.size() != n || gbuffer.normal.size() != n ||
       gbuffer.depth.size() != n || gbuffer.hit.size() != n || gbuffer.albedo.size() != n)
     fail("G-buffer arrays do not all hold width x height = " + std::to_string(n) + " entries");
+}
+/// check_filter_input, then sizes `out` to the interior of `gbuffer`, zeroed.
+inline void prepare_filter(const char* filter, const TileGBuffer& gbuffer, int interleave, FilteredTile& out) {
+  check_filter_input(filter, gbuffer, interleave);
   out.width = gbuffer.width - 2 * gbuffer.border;
   out.height = gbuffer.height - 2 * gbuffer.border;
   const std::size_t interior = std::size_t(out.width) * std::size_t(out.height);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <variant>
 
 #include "igi/filters/atrous_filter.hpp"
@@ -13,7 +14,8 @@
 
 namespace igi {
 
-/// One of DiscontinuityFilter, AtrousFilter, BoxFilter or NoFilter (each with default settings), itself a Filter.
+/// One of DiscontinuityFilter, AtrousFilter, BoxFilter or NoFilter (each with default settings),
+/// itself a StagedFilter, so one process's tiles share AtrousFilter's stages as they would with it alone.
 class FilterChoice {
  public:
   /// Policy name.
@@ -48,7 +50,71 @@ class FilterChoice {
     std::visit([&](const auto& f) { f.apply(gbuffer, interleave, out); }, filter_);
   }
 
+  /// What a tile keeps between stages: the chosen StagedFilter's, or for a filter that runs whole
+  /// (one stage, applied by `finish`) the interleave it was given.
+  struct TileStages {
+    AtrousFilter::TileStages atrous;  ///< AtrousFilter's stages.
+    int interleave = 1;               ///< S, for a filter that runs whole.
+  };
+  /// The chosen filter's stages (StagedFilter); 1 for a filter that runs whole.
+  int stage_count() const noexcept {
+    return std::visit(
+        [](const auto& f) {
+          if constexpr (StagedFilter<std::decay_t<decltype(f)>>)
+            return f.stage_count();
+          else
+            return 1;
+        },
+        filter_);
+  }
+  /// Pixels of stage `stage - 1` that stage `stage` reads around a tile (StagedFilter).
+  int stage_reach(int stage) const noexcept {
+    return std::visit(
+        [&](const auto& f) {
+          if constexpr (StagedFilter<std::decay_t<decltype(f)>>)
+            return f.stage_reach(stage);
+          else
+            return 0;
+        },
+        filter_);
+  }
+  /// Stage `stage` of the chosen filter (StagedFilter); a filter that runs whole only notes `interleave`.
+  void run_stage(int stage, const TileGBuffer& gbuffer, int interleave, TileStages& tile) const {
+    tile.interleave = interleave;
+    std::visit(
+        [&](const auto& f) {
+          if constexpr (StagedFilter<std::decay_t<decltype(f)>>) f.run_stage(stage, gbuffer, interleave, stages(tile, f));
+        },
+        filter_);
+  }
+  /// Copies `block` of a neighbour's stage `stage` output into `tile`'s (StagedFilter).
+  void copy_stage(int stage, const TileStages& neighbour, const BlockCopy& block, TileStages& tile) const {
+    std::visit(
+        [&](const auto& f) {
+          if constexpr (StagedFilter<std::decay_t<decltype(f)>>)
+            f.copy_stage(stage, stages(neighbour, f), block, stages(tile, f));
+        },
+        filter_);
+  }
+  /// The chosen filter's result for the interior of `gbuffer` (StagedFilter): its last stage's, or the whole filter applied.
+  void finish(const TileGBuffer& gbuffer, const TileStages& tile, FilteredTile& out) const {
+    std::visit(
+        [&](const auto& f) {
+          if constexpr (StagedFilter<std::decay_t<decltype(f)>>)
+            f.finish(gbuffer, stages(tile, f), out);
+          else
+            f.apply(gbuffer, tile.interleave, out);
+        },
+        filter_);
+  }
+
  private:
+  /// `tile`'s stages of AtrousFilter `filter` (the only StagedFilter among the choices).
+  template <class Tile>
+  static auto& stages(Tile& tile, const AtrousFilter&) noexcept {
+    return tile.atrous;
+  }
+
   std::variant<DiscontinuityFilter, AtrousFilter, BoxFilter, NoFilter> filter_{NoFilter{}};
 };
 

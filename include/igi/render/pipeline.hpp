@@ -215,7 +215,7 @@ class Pipeline {
     shade(frame, tile, tile, work, work.gbuffer, rays);
     {
       const StageTimer timer(work.timing(&StageTimes::gbuffer));
-      gbuffer.copy_from(work.gbuffer, 0, 0, gbuffer.border, gbuffer.border, tile.width(), tile.height());
+      gbuffer.copy_from(work.gbuffer, {.x = gbuffer.border, .y = gbuffer.border, .columns = tile.width(), .rows = tile.height()});
     }
     stages = work.stages;
   }
@@ -231,8 +231,34 @@ class Pipeline {
     out.stages = work.stages;
   }
 
+  /// For a StagedFilter, the steps between shade_tile and finish_staged_tile: stage `stage` of
+  /// the filter over `tile`'s `gbuffer` (border filled from the neighbours) into `stages`, whose
+  /// border the caller has filled with the neighbours' previous stage; its time goes to `times.filter`.
+  void filter_stage(const FrameState& frame, int stage, const TileGBuffer& gbuffer, typename FilterStages<F>::type& stages,
+                    StageTimes& times) const
+    requires StagedFilter<F>
+  {
+    const StageTimer timer(frame.profile ? &times.filter : nullptr);
+    filter_->run_stage(stage, gbuffer, frame.settings.interleave, stages);
+  }
+  /// finish_tile for a StagedFilter whose stages have all run on `stages`: their result composed into `out`.
+  void finish_staged_tile(const FrameState& frame, const PixelRect& tile, const TileGBuffer& gbuffer,
+                          const typename FilterStages<F>::type& stages, Workspace& work, TileResult& out) const
+    requires StagedFilter<F>
+  {
+    begin_stages(frame, work);
+    {
+      const StageTimer timer(work.timing(&StageTimes::filter));
+      filter_->finish(gbuffer, stages, work.filtered);
+    }
+    compose_filtered(frame, tile, with_border(frame, tile), gbuffer, work, out);
+    out.stages = work.stages;
+  }
+
   /// Pixels the filter reads around a tile.
   int border(const FrameState& frame) const { return filter_->border(frame.settings.interleave); }
+  /// The filter.
+  const F& filter() const noexcept { return *filter_; }
 
  private:
   /// `tile` grown by the filter's border.
@@ -423,7 +449,7 @@ class Pipeline {
       const vfloat<W> u = to_unit_float(hash(hash(pixel) ^ vuint<W>(key)));
       // On faint lanes gain < threshold, so the probability is below 1 (and above 0 where light arrives).
       const vfloat<W> probability = select(faint, gain / select(faint, threshold, vfloat<W>(1.0f)), vfloat<W>(1.0f));
-      traced = geometry.reaches & (!faint | (u < probability));
+      traced = geometry.reaches & ((!faint) | (u < probability));
       boost = select(faint, vfloat<W>(1.0f) / max(probability, vfloat<W>(std::numeric_limits<float>::min())), boost);
     }
     if (none(traced)) return;
@@ -622,6 +648,11 @@ class Pipeline {
       const StageTimer timer(work.timing(&StageTimes::filter));
       filter_->apply(g, frame.settings.interleave, work.filtered);
     }
+    compose_filtered(frame, tile, extended, g, work, out);
+  }
+  /// compose after the filter: `work.filtered` and the G-buffer's unfiltered layers into `out`.
+  void compose_filtered(const FrameState& frame, const PixelRect& tile, const PixelRect& extended, const TileGBuffer& g,
+                        Workspace& work, TileResult& out) const {
     const StageTimer timer(work.timing(&StageTimes::compose));
     const FilteredTile& filtered = work.filtered;
     out.rect = tile;

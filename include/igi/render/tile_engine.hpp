@@ -161,20 +161,28 @@ class TileEngine {
   /// tile and every tile its border reaches into are shaded, the tile's border is copied from
   /// theirs and the tile filtered and composed (so its G-buffer and its neighbours' are still in
   /// cache: waiting for the whole frame to be shaded first cost Cornell 640 x 480 3 ms of CPU a
-  /// frame more). The pixels are render_tiles' (the filter reads the same G-buffer values, as a
-  /// pixel's shading does not depend on the tile that holds it) without shading each tile's border
-  /// again: 8.5% more pixels for the 3 x 3 window on 48-pixel tiles, 78% for AtrousFilter's
-  /// 8-pixel border. `done(tile, result, milliseconds)` as for render_tiles, after the tile is
-  /// composed, with its rays and the time of both its steps. Throws std::logic_error before begin_frame.
+  /// frame more). A StagedFilter runs the same way stage by stage, each stage of a tile once its
+  /// neighbours' previous stage is done, over the tile's own pixels with its border copied from
+  /// theirs. The pixels are render_tiles' (the filter reads the same G-buffer values, as a pixel's
+  /// shading does not depend on the tile that holds it, and a stage's output at a pixel does not
+  /// depend on the tile that computes it) without shading each tile's border again (8.5% more
+  /// pixels for the 3 x 3 window on 48-pixel tiles, 78% for AtrousFilter's 8-pixel border) nor
+  /// filtering it again (AtrousFilter's stages cover 1.36 to 1.67 times the tile's pixels with
+  /// their borders). `done(tile, result, milliseconds)` as for render_tiles, after the tile is
+  /// composed, with its rays and the time of all its steps. Throws std::logic_error before begin_frame.
   template <class Done>
   void render_frame(Done&& done) {
     if (!frame_.prepared()) throw std::logic_error("a frame was rendered before begin_frame");
+    // A tile's levels: 0 shades it, 1 .. stage_count filter it (the last also composes it).
+    const int stage_count = filter_stage_count();
     shaded_.resize(tiles_.size());
-    // A tile waits for the tiles its border reaches into and for itself.
+    // Level l > 0 of a tile waits for level l - 1 of the tiles its border reaches into and of itself.
     for (std::size_t i = 0; i < tiles_.size(); ++i) {
-      int waiting = 0;
-      for_each_neighbour(i, [&](std::size_t) { ++waiting; });
-      shaded_[i].waiting.store(waiting, std::memory_order_relaxed);
+      int neighbours = 0;
+      for_each_neighbour(i, [&](std::size_t) { ++neighbours; });
+      if (shaded_[i].waiting.size() != std::size_t(stage_count))
+        shaded_[i].waiting = std::vector<std::atomic<int>>(std::size_t(stage_count));
+      for (auto& count : shaded_[i].waiting) count.store(neighbours, std::memory_order_relaxed);
     }
     using clock = std::chrono::steady_clock;
     const auto since = [](clock::time_point start) {
@@ -182,33 +190,58 @@ class TileEngine {
     };
     struct Step {
       std::size_t tile;  ///< Which tile.
-      bool compose;      ///< Shade it (false) or filter and compose it (true).
+      int level;         ///< What to do with it (see above).
     };
     std::vector<Step> shading(tiles_.size());
-    for (std::size_t i = 0; i < tiles_.size(); ++i) shading[i] = {i, false};
+    for (std::size_t i = 0; i < tiles_.size(); ++i) shading[i] = {i, 0};
     arena_.execute([&] {
       tbb::parallel_for_each(shading.begin(), shading.end(), [&](const Step& step, tbb::feeder<Step>& feeder) {
         const FlushDenormals flush;
         ThreadWork& work = workspaces_.local();
         ShadedTile& shaded = shaded_[step.tile];
         const auto start = clock::now();
-        if (!step.compose) {
+        // Level `step.level` of the tile is done: the neighbours whose last wait that was go next.
+        // The tile itself is fed last, so that this thread (whose fed steps run last in, first
+        // out) goes on with it while its buffers are in cache.
+        const auto next = [&] {
+          const auto release = [&](std::size_t j) {
+            if (shaded_[j].waiting[std::size_t(step.level)].fetch_sub(1, std::memory_order_acq_rel) == 1)
+              feeder.add(Step{j, step.level + 1});
+          };
+          for_each_neighbour(step.tile, [&](std::size_t j) {
+            if (j != step.tile) release(j);
+          });
+          release(step.tile);
+        };
+        if (step.level == 0) {
           pipeline_.shade_tile(frame_, tiles_[step.tile], shaded.gbuffer, work.pipeline, shaded.rays, shaded.stages);
           shaded.milliseconds = since(start);
-          for_each_neighbour(step.tile, [&](std::size_t j) {
-            if (shaded_[j].waiting.fetch_sub(1, std::memory_order_acq_rel) == 1) feeder.add(Step{j, true});
-          });
+          next();
           return;
         }
-        std::uint64_t gather = 0;
-        {
-          const StageTimer timer(frame_.profile ? &gather : nullptr);
+        const int stage = step.level - 1;
+        if (stage == 0) {
+          const StageTimer timer(frame_.profile ? &shaded.stages.gbuffer : nullptr);
           gather_border(step.tile);
         }
-        pipeline_.finish_tile(frame_, tiles_[step.tile], shaded.gbuffer, work.pipeline, work.result);
+        if constexpr (StagedFilter<F>) {
+          if (stage > 0) {
+            const StageTimer timer(frame_.profile ? &shaded.stages.filter : nullptr);
+            gather_stage(step.tile, stage);
+          }
+          pipeline_.filter_stage(frame_, stage, shaded.gbuffer, shaded.filter_stages, shaded.stages);
+          if (stage + 1 < stage_count) {
+            shaded.milliseconds += since(start);
+            next();
+            return;
+          }
+          pipeline_.finish_staged_tile(frame_, tiles_[step.tile], shaded.gbuffer, shaded.filter_stages, work.pipeline,
+                                       work.result);
+        } else {
+          pipeline_.finish_tile(frame_, tiles_[step.tile], shaded.gbuffer, work.pipeline, work.result);
+        }
         work.result.rays = shaded.rays;
         work.result.stages.merge(shaded.stages);
-        work.result.stages.gbuffer += gather;
         done(step.tile, work.result, shaded.milliseconds + since(start));
       });
     });
@@ -257,22 +290,49 @@ class TileEngine {
       for (int column = r.x0 / size; column <= (r.x1 - 1) / size; ++column)
         visit(std::size_t(row) * std::size_t(columns) + std::size_t(column));
   }
+  /// The filter's stages (1 for a filter that runs whole).
+  int filter_stage_count() const {
+    if constexpr (StagedFilter<F>)
+      return pipeline_.filter().stage_count();
+    else
+      return 1;
+  }
+  /// Calls `visit(j, block)` for each tile j other than `i` that holds pixels within `reach` of
+  /// tile i: `block` copies them from j's tile buffer into i's (both laid out with the filter's border).
+  template <class Visit>
+  void for_each_border_block(std::size_t i, int reach, Visit&& visit) const {
+    const PixelRect& tile = tiles_[i];
+    const int border = pipeline_.border(frame_);
+    for_each_neighbour(i, [&](std::size_t j) {
+      if (j == i) return;
+      const PixelRect& other = tiles_[j];
+      const int x0 = std::max(tile.x0 - reach, other.x0), y0 = std::max(tile.y0 - reach, other.y0);
+      const int x1 = std::min(tile.x1 + reach, other.x1), y1 = std::min(tile.y1 + reach, other.y1);
+      if (x1 <= x0 || y1 <= y0) return;
+      visit(j, BlockCopy{.source_x = x0 - other.x0 + border,
+                         .source_y = y0 - other.y0 + border,
+                         .x = x0 - (tile.x0 - border),
+                         .y = y0 - (tile.y0 - border),
+                         .columns = x1 - x0,
+                         .rows = y1 - y0});
+    });
+  }
   /// Copies into the border of tile `i`'s G-buffer the pixels its neighbours shaded (the border
   /// outside the image stays as sized: zero, "no hit"), all but their unfiltered `radiance`,
   /// which only the tile's own pixels compose.
   void gather_border(std::size_t i) {
-    const PixelRect& tile = tiles_[i];
-    TileGBuffer& gbuffer = shaded_[i].gbuffer;
-    const int border = gbuffer.border;
-    const PixelRect r = reach(i);
-    for_each_neighbour(i, [&](std::size_t j) {
-      if (j == i) return;
-      const PixelRect& other = tiles_[j];
-      const int x0 = std::max(r.x0, other.x0), y0 = std::max(r.y0, other.y0);
-      const int x1 = std::min(r.x1, other.x1), y1 = std::min(r.y1, other.y1);
-      if (x1 <= x0 || y1 <= y0) return;
-      gbuffer.copy_from(shaded_[j].gbuffer, x0 - other.x0 + border, y0 - other.y0 + border, x0 - (tile.x0 - border),
-                        y0 - (tile.y0 - border), x1 - x0, y1 - y0, false);
+    for_each_border_block(i, pipeline_.border(frame_), [&](std::size_t j, const BlockCopy& block) {
+      shaded_[i].gbuffer.copy_from(shaded_[j].gbuffer, block, false);
+    });
+  }
+  /// Copies into the border of tile `i`'s filter stages what stage `stage` reads of its
+  /// neighbours' stage `stage - 1` output (outside the image the filter keeps its own zeros).
+  void gather_stage(std::size_t i, int stage)
+    requires StagedFilter<F>
+  {
+    const F& filter = pipeline_.filter();
+    for_each_border_block(i, filter.stage_reach(stage), [&](std::size_t j, const BlockCopy& block) {
+      filter.copy_stage(stage - 1, shaded_[j].filter_stages, block, shaded_[i].filter_stages);
     });
   }
 
@@ -285,13 +345,11 @@ class TileEngine {
   struct ShadedTile {
     TileGBuffer gbuffer;          ///< The tile with the filter's border; shading writes its interior.
     RayCounts rays;               ///< Rays its shading traced.
-    StageTimes stages;            ///< Its shading's stage times.
-    double milliseconds = 0.0;    ///< Its shading's time.
-    std::atomic<int> waiting{0};  ///< Tiles (itself among them) within its border not yet shaded.
-    ShadedTile() = default;
-    /// A new entry (std::vector needs it to grow; only render_frame's set-up resizes, between frames).
-    ShadedTile(ShadedTile&& other) noexcept
-        : gbuffer(std::move(other.gbuffer)), rays(other.rays), stages(other.stages), milliseconds(other.milliseconds) {}
+    StageTimes stages;            ///< Its steps' stage times.
+    typename FilterStages<F>::type filter_stages;  ///< A StagedFilter's stage outputs (its border filled from the neighbours').
+    double milliseconds = 0.0;    ///< Time of its steps so far.
+    /// Per level l > 0: tiles (itself among them) within its border not yet done with level l - 1.
+    std::vector<std::atomic<int>> waiting;
   };
 
   Scene* scene_;
