@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <catch2/catch.hpp>
+#include <oneapi/tbb/task_arena.h>
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/backends/reference/reference_backend.hpp"
@@ -230,6 +231,17 @@ TEST_CASE("ImportanceVplSampler: a frame's VPLs do not depend on the thread coun
   const VplSets direct =
       ImportanceVplSampler{}.generate(scene, EmbreeBackend<8>(scene), shader, brdf, vpl_settings_for(settings, 2, bounds, &view));
   CHECK(same(frames[0], direct));
+  // The sampler's loops run on the calling arena's threads: 1 (every candidate in order) and 2
+  // (in the order the scheduler hands them out) give the same VPLs.
+  const EmbreeBackend<8> backend(scene);
+  const VplSettings frame_settings = vpl_settings_for(settings, 2, bounds, &view);
+  for (const int threads : {1, 2}) {
+    tbb::task_arena arena(threads);
+    VplSets in_arena;
+    arena.execute([&] { in_arena = ImportanceVplSampler{}.generate(scene, backend, shader, brdf, frame_settings); });
+    INFO(threads << " threads");
+    CHECK(same(in_arena, direct));
+  }
 }
 
 TEST_CASE("ImportanceVplSampler: finite VPLs, probabilities above 0 and at most 1, exact delta VPLs untouched, about M per set",

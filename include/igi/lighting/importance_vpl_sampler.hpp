@@ -65,6 +65,8 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
 
 #include "igi/backends/packet.hpp"
 #include "igi/io/srgb.hpp"
@@ -76,6 +78,7 @@
 #include "igi/shading/constants.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 #include "igi/shading/surface_shader.hpp"
+#include "igi/simd/float_mode.hpp"
 #include "igi/simd/sampling.hpp"
 
 namespace igi {
@@ -130,6 +133,22 @@ class ViewImportance {
       sum += double(unoccluded);
     }
     return sum;
+  }
+
+  /// contribution() of `count` VPLs, `vpl(i)` the i-th, on oneTBB's threads (the calling
+  /// thread's task arena: its thread count), each with denormals flushed as the frame's tiles.
+  /// Every value is computed alone, so the result does not depend on the threads.
+  template <class Tracer, class VplOf>
+  std::vector<double> contributions(std::size_t count, const VplOf& vpl, const Tracer& tracer) const {
+    std::vector<double> values(count);
+    // 8 candidates (512 shadow rays at 64 view points) a task: enough work per task to hide its
+    // scheduling, and a few hundred tasks for the threads to balance.
+    constexpr std::size_t grain = 8;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, grain), [&](const tbb::blocked_range<std::size_t>& range) {
+      const FlushDenormals flush;
+      for (std::size_t i = range.begin(); i != range.end(); ++i) values[i] = contribution(vpl(i), tracer);
+    });
+    return values;
   }
 
  private:
@@ -294,7 +313,9 @@ class ImportanceVplSampler {
     std::vector<double> set_flux(sets, 0.0);
     const std::uint32_t scramble = hash(settings.seed, settings.frame);
     const Halton halton(scramble);
-    for (std::size_t s = 0; s < sets; ++s) {
+    // The sets' walks are independent (walk j of set s is Halton point s N + j): a task a set.
+    tbb::parallel_for(std::size_t(0), sets, [&](std::size_t s) {
+      const FlushDenormals flush;
       for (int j = 0; j < n; ++j) {
         const std::uint64_t index = std::uint64_t(s) * std::uint64_t(n) + std::uint64_t(j);
         const auto u = [&](int dimension) { return QmcVplSampler::sample(halton, scramble, dimension, index); };
@@ -305,10 +326,16 @@ class ImportanceVplSampler {
         if (on_light) candidates[s].push_back({*on_light, {j, 0}, 0.0, true});
         for (std::size_t k = 0; k < walk_vpls.size(); ++k) candidates[s].push_back({walk_vpls[k], walk_origins[k], 0.0, false});
       }
-      for (Candidate& candidate : candidates[s]) {
-        candidate.contribution = view.contribution(candidate.vpl, tracer);
-        set_flux[s] += candidate.contribution;
-      }
+    });
+    // Then every candidate's contribution (most of the sampler's time: a shadow ray per view point).
+    std::vector<Candidate*> all;
+    for (auto& set : candidates)
+      for (Candidate& candidate : set) all.push_back(&candidate);
+    const std::vector<double> contributions =
+        view.contributions(all.size(), [&](std::size_t i) -> const Vpl& { return all[i]->vpl; }, tracer);
+    for (std::size_t i = 0; i < all.size(); ++i) all[i]->contribution = contributions[i];
+    for (std::size_t s = 0; s < sets; ++s) {
+      for (const Candidate& candidate : candidates[s]) set_flux[s] += candidate.contribution;
       out.candidates += int(candidates[s].size());
     }
 
@@ -459,10 +486,9 @@ class ImportanceVplSampler {
               QmcVplSampler::start_walk(scene, geometry, tracer, shader, brdf, settings, lights, 1, u, j, candidates, origins))
         candidates.push_back(*on_light);
     }
-    for (const Vpl& candidate : candidates) {
-      pilot.contributions.push_back(view.contribution(candidate, tracer));
-      pilot.image_flux += pilot.contributions.back() / double(pilot.walks);
-    }
+    pilot.contributions =
+        view.contributions(candidates.size(), [&](std::size_t i) -> const Vpl& { return candidates[i]; }, tracer);
+    for (const double contribution : pilot.contributions) pilot.image_flux += contribution / double(pilot.walks);
     pilot.vpls_per_walk = double(candidates.size()) / double(pilot.walks);
     return pilot;
   }

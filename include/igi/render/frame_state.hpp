@@ -12,7 +12,7 @@
 
 #include "igi/lighting/vpl_sampler.hpp"
 #include "igi/lighting/vpl_spread.hpp"
-#include "igi/render/float_mode.hpp"
+#include "igi/simd/float_mode.hpp"
 #include "igi/render/settings.hpp"
 #include "igi/render/tone_mapping.hpp"
 #include "igi/scene/camera.hpp"

@@ -23,7 +23,7 @@
 #include <oneapi/tbb/parallel_for_each.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "igi/render/float_mode.hpp"
+#include "igi/simd/float_mode.hpp"
 #include "igi/render/frame_state.hpp"
 #include "igi/render/pipeline.hpp"
 #include "igi/scene/scene_bounds.hpp"
@@ -108,8 +108,11 @@ class TileEngine {
       backend_->commit();
       dirty_ = false;
     }
-    frame_.prepare(*scene_, bounds_.bounds(), *backend_, *surface_, *brdf_, *sampler_, settings_, camera, index,
-                   tone_mapping, options.clamp_scale);
+    // In the engine's arena: a sampler's parallel loops (ImportanceVplSampler) use its threads.
+    arena_.execute([&] {
+      frame_.prepare(*scene_, bounds_.bounds(), *backend_, *surface_, *brdf_, *sampler_, settings_, camera, index,
+                     tone_mapping, options.clamp_scale);
+    });
     frame_.profile = options.profile;
     frame_.keep_layers = options.keep_layers;
     frame_.pixel_jitter = options.pixel_jitter;

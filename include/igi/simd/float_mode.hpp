@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Flush-to-zero and denormals-are-zero for the threads that trace: Embree asks for both (its
+/// Flush-to-zero and denormals-are-zero for the threads that trace or sample VPLs: Embree asks for both (its
 /// traversal slows down sharply on denormal inputs), and every thread setting them keeps frames
 /// identical across thread counts.
 
