@@ -91,6 +91,11 @@ void add_filter_options(CommandLine& command_line, std::string& filter, RenderSe
   command_line.flag("--filter-delta-lights", settings.filter_delta_lights,
                     "filter the direct light of point, spot and directional lights with the VPLs' light, as the paper "
                     "does (default: composed per pixel, since it has no noise to filter and keeps its shadow edges sharp)");
+  // CLI11's {false}: the flag sets filter_textures to false.
+  command_line.flag("--point-textures{false}", settings.filter_textures,
+                    "read textures at each camera ray's point at full resolution, as the paper did (default: "
+                    "trilinear from mip maps at the ray's footprint, one pixel wide, so texture detail finer than a "
+                    "pixel does not alias)");
 }
 
 void add_vpl_sampler_option(CommandLine& command_line, std::string& sampler) {

@@ -54,7 +54,8 @@ void add_size_option(CommandLine& command_line, std::string& size);
 void add_sampling_options(CommandLine& command_line, RenderSettings& settings);
 /// --temporal: RenderSettings::temporal_frames (programs that render whole frames in one process).
 void add_temporal_option(CommandLine& command_line, RenderSettings& settings);
-/// Adds --filter (discontinuity, atrous, box or none) and --filter-delta-lights (RenderSettings::filter_delta_lights).
+/// Adds --filter (discontinuity, atrous, box or none), --filter-delta-lights (RenderSettings::filter_delta_lights)
+/// and --point-textures (RenderSettings::filter_textures off).
 void add_filter_options(CommandLine& command_line, std::string& filter, RenderSettings& settings);
 /// Adds --vpl-sampler: qmc or importance (names of igi::VplSamplerChoice).
 void add_vpl_sampler_option(CommandLine& command_line, std::string& sampler);

@@ -138,6 +138,7 @@ inline StatsJson sampling_statistics(const RenderSettings& settings, const std::
       .set("aa", settings.antialiasing)
       .set("filter", filter)
       .set("filter_delta_lights", settings.filter_delta_lights)
+      .set("filter_textures", settings.filter_textures)
       .set("vpl_sampler", vpl_sampler);
   return stats;
 }

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/backend_choice.hpp"
+#include "common/command_line.hpp"
 #include "common/program_options.hpp"
 #include "common/render_options.hpp"
 #include "common/stats_json.hpp"
@@ -110,6 +111,22 @@ TEST_CASE("a run's shared stats fields are the scene, image, backend, output, an
   CHECK(run["filter"] == "box");
   CHECK(run["vpl_sampler"] == "importance");
   CHECK(run["filter_delta_lights"] == false);
+  CHECK(run["filter_textures"] == true);
+}
+
+TEST_CASE("the filter options: --point-textures turns texture filtering off, without it camera rays read at their footprint", "[programs]") {
+  for (const bool point : {false, true}) {
+    igi::RenderSettings settings;
+    std::string filter = "discontinuity";
+    igi::programs::CommandLine command_line{"test", "filter options"};
+    igi::programs::add_filter_options(command_line, filter, settings);
+    std::vector<std::string> words = {"test"};
+    if (point) words.push_back("--point-textures");
+    std::vector<char*> argv;
+    for (std::string& word : words) argv.push_back(word.data());
+    REQUIRE_FALSE(command_line.parse(int(argv.size()), argv.data(), false).has_value());
+    CHECK(settings.filter_textures == !point);
+  }
 }
 
 TEST_CASE("the built-in scenes are the Cornell box and the window room, and the VPL sampler option names a VplSamplerChoice", "[programs]") {

@@ -45,6 +45,9 @@ struct FrameOptions {
   /// Where in its cell each sub-sample's primary ray passes (subsample_offset; the centre by
   /// default; temporal reuse moves it from one still frame to the next, so they cover the pixel).
   glm::vec2 pixel_jitter{0.5f};
+  /// Factor on the camera rays' cone (RenderSettings::filter_textures): temporal reuse of a still
+  /// view spreads n frames' rays over each pixel, each with 1/n of its area.
+  float texture_cone_scale = 1.0f;
 };
 
 /// One frame's shared, read-only inputs of the pipeline.
@@ -61,6 +64,7 @@ struct FrameState {
   bool profile = false;                        ///< Time each stage into TileResult::stages (2-9% slower frames).
   bool keep_layers = false;                    ///< Tiles return their pixels' PixelLayers (TileResult::layers), for temporal reuse.
   glm::vec2 pixel_jitter{0.5f};                ///< Where in its cell each sub-sample's primary ray passes (FrameOptions::pixel_jitter).
+  float texture_cone_scale = 1.0f;             ///< Factor on the camera rays' cone (FrameOptions::texture_cone_scale).
 
   /// Builds frame `index` of `scene` (committed in `backend`) seen by `camera`, to be tone mapped
   /// with `tone_mapping`: VPLs from `sampler`, whose walks shade their hits with the frame's own
@@ -91,6 +95,7 @@ struct FrameState {
     profile = false;
     keep_layers = false;
     pixel_jitter = glm::vec2(0.5f);
+    texture_cone_scale = 1.0f;
   }
   /// True once prepare has run.
   bool prepared() const noexcept { return projection.has_value(); }

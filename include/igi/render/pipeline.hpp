@@ -353,7 +353,7 @@ class Pipeline {
       const StageTimer timer(work.timing(&StageTimes::surface));
       for (StreamPacket& packet : level) {
         shade_surface(frame, packet, depth == 0 ? Coherence::coherent : Coherence::incoherent,
-                      depth == 0 ? counts.primary : counts.secondary);
+                      depth == 0 ? counts.primary : counts.secondary, depth == 0 ? camera_cone_spread(frame) : 0.0f);
         packet.light = {};
         packet.direct = {};
       }
@@ -540,11 +540,21 @@ class Pipeline {
     }
   }
 
-  /// Step 3 for one packet: hit points, BRDF parameters, and rays continued through alpha
-  /// cut-outs (traced with the `coherence` of the packet's level).
-  void shade_surface(const FrameState& frame, StreamPacket& packet, Coherence coherence, std::uint64_t& count) const {
+  /// How much a camera ray's cone widens per unit of distance: one pixel, shared by the N
+  /// sub-samples (each covers 1/N of its area: a side of 1/sqrt(N)), times the frame's
+  /// texture_cone_scale; 0 without texture filtering.
+  static float camera_cone_spread(const FrameState& frame) noexcept {
+    if (!frame.settings.filter_textures) return 0.0f;
+    return frame.texture_cone_scale * frame.projection->pixel_spread() / std::sqrt(float(frame.settings.antialiasing));
+  }
+
+  /// Step 3 for one packet: hit points (with ray cones that widen by `cone_spread` per unit of
+  /// distance, for the textures' footprint; 0: none), BRDF parameters, and rays continued
+  /// through alpha cut-outs (traced with the `coherence` of the packet's level).
+  void shade_surface(const FrameState& frame, StreamPacket& packet, Coherence coherence, std::uint64_t& count,
+                     float cone_spread = 0.0f) const {
     packet.hit = packet.active & packet.hits.valid();
-    packet.surface = make_surface_hit(*frame.scene, frame.geometry, packet.rays, packet.hits, packet.hit);
+    packet.surface = make_surface_hit(*frame.scene, frame.geometry, packet.rays, packet.hits, packet.hit, cone_spread);
     packet.parameters = surface_->shade(packet.surface, packet.hit);
     for (int layer = 0; layer < max_cutout_layers; ++layer) {
       const vmask<W> pass = packet.hit & !packet.parameters.opaque;
@@ -559,7 +569,7 @@ class Pipeline {
       count += std::uint64_t(popcount(pass));
       const vmask<W> again = pass & packet.hits.valid();
       packet.hit = (packet.hit & !pass) | again;
-      const SurfaceHit<W> surface = make_surface_hit(*frame.scene, frame.geometry, packet.rays, packet.hits, again);
+      const SurfaceHit<W> surface = make_surface_hit(*frame.scene, frame.geometry, packet.rays, packet.hits, again, cone_spread);
       const BrdfParameters<W> parameters = surface_->shade(surface, again);
       packet.surface.assign(surface, again);
       packet.parameters.assign(parameters, again);

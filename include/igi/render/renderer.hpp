@@ -115,6 +115,7 @@ class Renderer {
       const TemporalReuse::FrameRequest request = temporal_->begin(camera, settings.width, settings.height, scene_changed_);
       options.clamp_scale = request.clamp_scale;
       options.pixel_jitter = request.pixel_jitter;
+      options.texture_cone_scale = request.texture_cone_scale;
       layers_.resize(std::size_t(settings.width) * std::size_t(settings.height));
     }
     scene_changed_ = false;

@@ -46,6 +46,12 @@ struct RenderSettings {
   /// composed per pixel instead, beside emission. Either way, with anti-aliasing every sub-sample
   /// takes it (where a VPL subset's turn would give it to one sub-sample N-fold).
   bool filter_delta_lights = false;
+  /// Whether camera rays read textures at their footprint (a ray cone one pixel wide, over
+  /// sqrt(N) with N sub-samples; trilinear in the surface shader's mip chains), so each sample
+  /// sees the texture averaged over its share of the pixel, as the reference's pixel-area
+  /// integral does. Off: every ray reads full resolution at its point, as the paper did (and
+  /// texture detail finer than a pixel aliases).
+  bool filter_textures = true;
   int compensation_rays = 0;      ///< Bias compensation: gather rays per pixel that return the light the clamp removes (0: off).
   /// Temporal reuse (whole frames of one Renderer): each pixel averages up to this many frames
   /// of its history, reprojected with the camera's motion and dropped where normal or depth

@@ -116,6 +116,7 @@ class TileEngine {
     frame_.profile = options.profile;
     frame_.keep_layers = options.keep_layers;
     frame_.pixel_jitter = options.pixel_jitter;
+    frame_.texture_cone_scale = options.texture_cone_scale;
   }
 
   /// Runs `work` inside this engine's threads (its task arena), so oneTBB loops in it use the

@@ -104,6 +104,10 @@ struct PinholeProjection {
                      glm::dot(on_plane, down_step_) / glm::dot(down_step_, down_step_));
   }
 
+  /// The side of one pixel on the image plane at distance 1 (2 tan(yfov / 2) / height): how much
+  /// wider a primary ray's cone grows per unit of distance.
+  float pixel_spread() const noexcept { return glm::length(down_step_); }
+
   /// Image width in pixels.
   int width() const noexcept { return width_; }
   /// Image height in pixels.

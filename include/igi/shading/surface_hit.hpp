@@ -17,6 +17,11 @@ struct SurfaceHit {
   vec3<W> shading_normal;    ///< Unit interpolated vertex normal, in the hemisphere of geometric_normal.
   vec3<W> wo;                ///< Unit direction from the hit back towards the ray origin.
   vfloat<W> u, v;            ///< Texture coordinates (TEXCOORD_0), 0 without them.
+  /// Width of the ray's footprint at the hit in texture coordinates: its cone's width there,
+  /// spread over the surface (over sqrt of the cosine to wo: the same area as the slanted
+  /// ellipse), times the triangle's texture coordinates per unit of length. 0 for a ray without
+  /// a cone (light walks, gather and path-traced rays): textures are then read at full resolution.
+  vfloat<W> texture_footprint;
   vfloat<W> distance;        ///< Ray parameter of the hit (depth for the filter).
   vint<W> material;          ///< Index into Scene::materials, -1 for the default material.
   vint<W> mesh;              ///< Index into Scene::meshes.
@@ -32,6 +37,7 @@ struct SurfaceHit {
     wo.assign(from.wo, mask);
     u.assign(from.u, mask);
     v.assign(from.v, mask);
+    texture_footprint.assign(from.texture_footprint, mask);
     distance.assign(from.distance, mask);
     material.assign(from.material, mask);
     mesh.assign(from.mesh, mask);

@@ -9,6 +9,7 @@
 /// plane to float precision whatever the ray length, so secondary and shadow rays offset from it
 /// by a small epsilon do not re-hit the surface they start on.
 
+#include <cmath>
 #include <cstddef>
 #include <stdexcept>
 #include <string>
@@ -103,7 +104,8 @@ struct PacketMatrices {
 /// object-to-world and normal matrices, `instance_count` how many instances it knows.
 template <int W, class Matrices>
 SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, const Matrices& matrices,
-                                const RayPacket<W>& rays, const HitPacket<W>& hits, const vmask<W>& mask) {
+                                const RayPacket<W>& rays, const HitPacket<W>& hits, const vmask<W>& mask,
+                                float cone_spread) {
   SurfaceHit<W> hit;
   const vmask<W> active = mask & hits.valid();
   if (none(active)) return hit;
@@ -113,6 +115,7 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
   // nearly always hits one instance, whose matrices are then broadcast instead of gathered.
   vec3<W> p0, p1, p2, interpolated_normal;
   vfloat<W> tex_u, tex_v;
+  vfloat<W> uv_area;  // twice the triangle's area in texture coordinates (only with a cone)
   const int first_lane = [&] {
     for (int i = 0; i < W; ++i)
       if (active[i]) return i;
@@ -140,6 +143,10 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
       const glm::vec2 uv = b0 * mesh.uvs[triangle.x] + b1 * mesh.uvs[triangle.y] + b2 * mesh.uvs[triangle.z];
       tex_u.set(i, uv.x);
       tex_v.set(i, uv.y);
+      if (cone_spread > 0.0f) {
+        const glm::vec2 e1 = mesh.uvs[triangle.y] - mesh.uvs[triangle.x], e2 = mesh.uvs[triangle.z] - mesh.uvs[triangle.x];
+        uv_area.set(i, std::abs(e1.x * e2.y - e1.y * e2.x));
+      }
     }
     hit.material.set(i, mesh.material);
     hit.mesh.set(i, std::int32_t(mesh_id));
@@ -168,7 +175,8 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
   hit.distance = keep(vfloat<W>::load(rays.tfar) * direction_length, active);
 
   // Geometric normal of the world-space triangle; the winding decides the front face.
-  const vec3<W> winding_normal = normalize(cross(p1 - p0, p2 - p0));
+  const vec3<W> edge_cross = cross(p1 - p0, p2 - p0);
+  const vec3<W> winding_normal = normalize(edge_cross);
   const vfloat<W> facing = dot(winding_normal, hit.wo);
   hit.front_face = active & (facing > vfloat<W>(0.0f));
   vec3<W> geometric = select(facing < vfloat<W>(0.0f), -winding_normal, winding_normal);
@@ -187,6 +195,20 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
 
   hit.u = keep(tex_u, active);
   hit.v = keep(tex_v, active);
+  if (cone_spread > 0.0f) {
+    // The cone's width at the hit, over the surface: its cross-section's area grows by 1 / cos
+    // on a slanted surface, so the side of the same area by 1 / sqrt(cos). Cosines below 1/64
+    // (within a degree of grazing) count as 1/64: at most 8x the width, three mip levels, where
+    // an exact factor would blur a grazing floor to one texel.
+    const vfloat<W> cosine = max(abs(facing), vfloat<W>(1.0f / 64.0f));
+    const vfloat<W> world_width = vfloat<W>(cone_spread) * hit.distance / sqrt(cosine);
+    // Texture coordinates per unit of length: the square root of the ratio of the triangle's
+    // areas in texture and world space (0 for a degenerate triangle: read at full resolution).
+    const vfloat<W> world_area = length(edge_cross);
+    const vmask<W> spanned = world_area > vfloat<W>(0.0f);
+    const vfloat<W> density = keep(sqrt(uv_area / select(spanned, world_area, vfloat<W>(1.0f))), spanned);
+    hit.texture_footprint = keep(density * world_width, active);  // not finite: sample_filtered reads level 0
+  }
   return hit;
 }
 
@@ -194,13 +216,15 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
 
 /// Builds the world-space hits of the lanes of `mask` that hit something, using the cached
 /// instance matrices; other lanes are zero. Throws std::out_of_range on ids the scene lacks.
+/// `cone_spread` > 0 gives the rays a cone that widens by that much per unit of distance (a
+/// camera's pixel_spread) and sets each hit's texture_footprint; 0 leaves it zero.
 template <int W>
 SurfaceHit<W> make_surface_hit(const Scene& scene, const SceneGeometry& geometry, const RayPacket<W>& rays,
-                               const HitPacket<W>& hits, const vmask<W>& mask) {
+                               const HitPacket<W>& hits, const vmask<W>& mask, float cone_spread = 0.0f) {
   return hit_detail::build_surface_hit(
       scene, geometry.size(),
       [&](std::uint32_t i) { return hit_detail::InstanceMatrices{geometry.object_to_world(i), geometry.normal_to_world(i)}; },
-      rays, hits, mask);
+      rays, hits, mask, cone_spread);
 }
 
 /// Builds world-space hits without a cache: each lane inverts its instance's 3x3 matrix
@@ -214,7 +238,7 @@ SurfaceHit<W> make_surface_hit(const Scene& scene, const RayPacket<W>& rays, con
         const glm::mat4& transform = scene.instances[i].transform;
         return hit_detail::InstanceMatrices{transform, glm::transpose(glm::inverse(glm::mat3(transform)))};
       },
-      rays, hits, mask);
+      rays, hits, mask, 0.0f);
 }
 
 }  // namespace igi
