@@ -43,7 +43,9 @@ namespace igi {
 
 /// Maps one hit on `material` to BRDF parameters (the mapping in this file's comment), its
 /// textures read from `mips` (one chain per Scene::textures entry) at the hit's footprint.
-inline ScalarBrdfParameters gltf_material_parameters(std::span<const TextureMips> mips, const Material& material,
+// Always inlined into the shader's lane loop, with its texture lookups (see texture_sampling.hpp's mix_texels).
+[[gnu::always_inline]] inline ScalarBrdfParameters gltf_material_parameters(std::span<const TextureMips> mips,
+                                                                           const Material& material,
                                                      const SurfacePoint& point, float mirror_roughness) {
   glm::vec4 base = material.base_color;
   if (material.base_color_texture >= 0) {
