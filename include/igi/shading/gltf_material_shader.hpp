@@ -46,7 +46,8 @@ namespace igi {
 // Always inlined into the shader's lane loop, with its texture lookups (see texture_sampling.hpp's mix_texels).
 [[gnu::always_inline]] inline ScalarBrdfParameters gltf_material_parameters(std::span<const TextureMips> mips,
                                                                            const Material& material,
-                                                     const SurfacePoint& point, float mirror_roughness) {
+                                                                           const SurfacePoint& point,
+                                                                           float mirror_roughness) {
   glm::vec4 base = material.base_color;
   if (material.base_color_texture >= 0) {
     const TextureMips& chain = mips[std::size_t(material.base_color_texture)];
