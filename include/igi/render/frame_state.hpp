@@ -12,13 +12,13 @@
 
 #include "igi/lighting/vpl_sampler.hpp"
 #include "igi/lighting/vpl_spread.hpp"
-#include "igi/simd/float_mode.hpp"
 #include "igi/render/settings.hpp"
 #include "igi/render/tone_mapping.hpp"
 #include "igi/scene/camera.hpp"
 #include "igi/scene/scene_bounds.hpp"
 #include "igi/shading/constants.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
+#include "igi/simd/float_mode.hpp"
 
 namespace igi {
 

@@ -351,9 +351,10 @@ class Pipeline {
     auto& level = work.levels[depth];
     {
       const StageTimer timer(work.timing(&StageTimes::surface));
+      const float cone_spread = depth == 0 ? camera_cone_spread(frame) : 0.0f;
       for (StreamPacket& packet : level) {
         shade_surface(frame, packet, depth == 0 ? Coherence::coherent : Coherence::incoherent,
-                      depth == 0 ? counts.primary : counts.secondary, depth == 0 ? camera_cone_spread(frame) : 0.0f);
+                      depth == 0 ? counts.primary : counts.secondary, cone_spread);
         packet.light = {};
         packet.direct = {};
       }

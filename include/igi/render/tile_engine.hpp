@@ -23,11 +23,11 @@
 #include <oneapi/tbb/parallel_for_each.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "igi/simd/float_mode.hpp"
 #include "igi/render/frame_state.hpp"
 #include "igi/render/pipeline.hpp"
 #include "igi/scene/scene_bounds.hpp"
 #include "igi/scene/scene_changes.hpp"
+#include "igi/simd/float_mode.hpp"
 
 namespace igi {
 

@@ -25,7 +25,6 @@
 
 #include <algorithm>
 #include <memory>
-#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -33,7 +32,6 @@
 #include <vector>
 
 #include <glm/glm.hpp>
-#include <oneapi/tbb/parallel_for.h>
 
 #include "igi/scene/scene.hpp"
 #include "igi/shading/scalar_shader_adapter.hpp"
@@ -105,12 +103,10 @@ class GltfMaterialShader {
                                       std::to_string(texture) + " but the scene has " +
                                       std::to_string(scene.textures.size()));
     }
-    // The textures' mip chains, one task a texture; shared by the shader's copies.
-    std::vector<std::optional<TextureMips>> chains(scene.textures.size());
-    tbb::parallel_for(std::size_t(0), chains.size(), [&](std::size_t t) { chains[t].emplace(scene.textures[t]); });
+    // The textures' mip chains (each level's rows on oneTBB's threads), shared by the shader's copies.
     auto mips = std::make_shared<std::vector<TextureMips>>();
-    mips->reserve(chains.size());
-    for (auto& chain : chains) mips->push_back(std::move(*chain));
+    mips->reserve(scene.textures.size());
+    for (const Texture& texture : scene.textures) mips->emplace_back(texture);
     mips_ = std::move(mips);
   }
   /// Policy name.

@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// Flush-to-zero and denormals-are-zero for the threads that trace or sample VPLs: Embree asks for both (its
-/// traversal slows down sharply on denormal inputs), and every thread setting them keeps frames
-/// identical across thread counts.
+/// Flush-to-zero and denormals-are-zero for the threads that trace or sample VPLs: Embree asks
+/// for both (its traversal slows down sharply on denormal inputs), and every thread setting them
+/// keeps frames identical across thread counts.
 
 #if defined(__SSE__) || defined(__x86_64__)
 #include <xmmintrin.h>
