@@ -39,7 +39,7 @@ done
 
 total_start=$(date +%s)
 load_before=$(cut -d' ' -f1-3 /proc/loadavg)
-targets=(pipeline_bench scaling_bench shading_bench occlusion16_bench)
+targets=(pipeline_bench scaling_bench shading_bench occlusion16_bench filters_bench)
 
 if [[ $build == 1 ]]; then
   if [[ ! -f "$build_dir/CMakeCache.txt" ]]; then
@@ -109,6 +109,13 @@ if [[ $smoke == 1 ]]; then
 else
   run occlusion16 "$(bin backends occlusion16_bench)" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
     --benchmark_min_time=0.2
+fi
+
+# The filters alone on one tile, one thread: ns per pixel of each filter and à-trous stage (medians of 5).
+if [[ $smoke == 1 ]]; then
+  run filters "$(bin filters filters_bench)" --benchmark_min_time=0.001
+else
+  run filters "$(bin filters filters_bench)" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 fi
 
 seconds=$(( $(date +%s) - start ))

@@ -3,8 +3,12 @@ box, the window room, the room with blinds (sun through slats) and Sponza_lit, e
 VPLs per pixel 4 ... 64 at 3x3 interleaving (with the sampler that scene's methods chart prefers:
 QMC, and view importance for the two rooms lit through their window). relMSE against the
 path-traced references of methods.py (rendered here if WORK_DIR lacks them) is the mean over
-seeds 1-3, since one frame's error depends on its VPLs' luck; time is the median of the seeds'
-median ms per frame (wall clock, 2 threads: run it on a quiet machine).
+seeds 1-3, since one frame's error depends on its VPLs' luck. Time is measured apart, the two
+filters' runs alternating (TIMING_ROUNDS pairs of TIMED_FRAMES frames, seed 1, wall clock, 2
+threads), and is each filter's median over its runs of their median ms per frame: timed
+together, a drift of the machine's speed moves both filters alike, which the comparison at equal
+time needs (the first version timed each filter in its own three 3-frame runs, and one slow run
+moved a point by 15%). Run it on a quiet machine.
 
 For each a-trous point the discontinuity buffer's relMSE at the same time is interpolated on its
 curve (linearly in log time and log error between the two points around it); the ratio below 1
@@ -26,7 +30,9 @@ from methods import SIZE, VPLS, arguments_and_references, compare, render, scene
 
 FILTERS = ["discontinuity", "atrous"]
 SEEDS = [1, 2, 3]
-FRAMES = 3  # timed frames per run; the last one is compared
+FRAMES = 3  # frames per accuracy run; the last one is compared
+TIMED_FRAMES = 8  # frames per timing run (their median is the run's time)
+TIMING_ROUNDS = 3  # alternating pairs of timing runs per scene and M
 # The VPL sampler each scene is measured with: importance wins the rooms lit through a window
 # from 17 ms on (methods.png), QMC elsewhere.
 SAMPLER = {"cornell": "qmc", "window": "importance", "blinds": "importance", "sponza_lit": "qmc"}
@@ -50,18 +56,26 @@ def main():
     rows = []
     for scene, reference in references:
         sampler = SAMPLER[scene]
-        for filter_name in FILTERS:
-            for vpls in VPLS:
-                times, errors = [], []
+        for vpls in VPLS:
+            def arguments(filter_name, frames, seed):
+                return scene_arguments(scene, scenes_dir) + ["--filter", filter_name, "--vpl-sampler", sampler,
+                                                             "--vpls", str(vpls), "--frames", str(frames),
+                                                             "--seed", str(seed)]
+            times = {filter_name: [] for filter_name in FILTERS}
+            for _ in range(TIMING_ROUNDS):
+                for filter_name in FILTERS:
+                    stats = render(build, arguments(filter_name, TIMED_FRAMES, SEEDS[0]),
+                                   work / f"filters_{scene}_timing.pfm")
+                    times[filter_name].append(stats["ms_per_frame"])
+            for filter_name in FILTERS:
+                errors = []
                 for seed in SEEDS:
                     test = work / f"filters_{scene}_{filter_name}_{vpls}_{seed}.pfm"
-                    stats = render(build, scene_arguments(scene, scenes_dir) +
-                                   ["--filter", filter_name, "--vpl-sampler", sampler, "--vpls", str(vpls),
-                                    "--frames", str(FRAMES), "--seed", str(seed)], test)
-                    times.append(stats["ms_per_frame"])
+                    render(build, arguments(filter_name, FRAMES, seed), test)
                     errors.append(compare(build, reference, test)["relmse"])
                 rows.append({"scene": scene, "sampler": sampler, "filter": filter_name, "vpls": vpls,
-                             "ms_per_frame": statistics.median(times), "relmse": sum(errors) / len(errors),
+                             "ms_per_frame": statistics.median(times[filter_name]),
+                             "relmse": sum(errors) / len(errors),
                              "relmse_per_seed": " ".join(f"{e:.5f}" for e in errors)})
                 print(f"{scene:10} {filter_name:13} M={vpls:3}: {rows[-1]['ms_per_frame']:7.1f} ms  "
                       f"relMSE {rows[-1]['relmse']:.5f}", flush=True)

@@ -132,6 +132,17 @@ TEST_CASE("filters: FilterChoice runs its filter's stages as the filter alone do
   STATIC_REQUIRE(!StagedFilter<DiscontinuityFilter>);
   CHECK(FilterChoice("atrous").stage_count() == AtrousFilter().stage_count());
   CHECK(FilterChoice("discontinuity").stage_count() == 1);
+  // Shared borders are as wide as one stage reads: the last pass's step (4 of the whole 8), the
+  // S x S window's where that reaches farther; a filter that runs whole needs its whole border.
+  CHECK(FilterChoice("atrous").staged_border(3) == 4);
+  CHECK(AtrousFilter().border(3) == 8);
+  CHECK(FilterChoice("discontinuity").staged_border(3) == 1);
+  CHECK(FilterChoice("discontinuity").staged_border(5) == 2);
+  AtrousSettings one_pass;
+  one_pass.passes = 1;
+  CHECK(AtrousFilter(one_pass).staged_border(3) == 1);
+  CHECK(AtrousFilter(one_pass).staged_border(9) == 4);
+  CHECK(AtrousFilter(one_pass).border(9) == 5);
   for (const char* name : {"atrous", "discontinuity"}) {
     INFO(name);
     check_shared_borders(FilterChoice(name), true);

@@ -65,10 +65,11 @@ struct AtrousSettings {
 
 namespace filter_detail {
 
-/// e^-t for t >= 0 on packets, relative error below 3e-6, zero beyond t = 87 (e^-87 = 2^-126 is
-/// the smallest normal float) and for NaN. The library's exp runs lane by lane; this one as
+/// e^-t for t >= 0 on packets, relative error below 3.5e-6, zero beyond t = 87 (e^-87 = 2^-126
+/// is the smallest normal float) and for NaN. The library's exp runs lane by lane; this one as
 /// e^-t = 2^-n 2^-f with n = round(t log2 e) and f in [-1/2, 1/2], whose 2^-f = e^u (|u| <=
-/// ln2 / 2) is Taylor's series to u^5 (next term below 0.347^6 / 720 = 2.4e-6).
+/// ln2 / 2) is Taylor's series to u^5: the next term, below 0.347^6 / 720 = 2.4e-6, over e^u
+/// >= 0.707 bounds the relative error (3.25e-6 measured, at u = -ln2 / 2).
 template <int W>
 [[gnu::always_inline]] inline vfloat<W> exp_negative(const vfloat<W>& t) noexcept {
   const vfloat<W> one(1.0f);
@@ -188,15 +189,15 @@ void window_mean_and_variance(const TileGBuffer& g, int interleave, const SameSu
 /// the work and half the border per pass.
 inline constexpr float atrous_kernel[3] = {0.25f, 0.5f, 0.25f};
 
-/// cos^128 of the angle between normals `n` and `m` (SVGF's sigma_n = 128, seven squarings): 1
-/// at equal normals, 0.6 at 5 degrees, below 1e-5 at 25 degrees, where the discontinuity buffer
-/// cuts; 0 for back-facing and NaN normals, so always in [0, 1].
+/// The exponent of the normals' agreement between unit normals `n` and `m`: 128 (1 - cos), so
+/// that e^-x is SVGF's cos^128 (sigma_n = 128) to within 0.1% at 5 degrees (0.61) and 1.6% at
+/// 10, below 1e-5 from 25 degrees on, where the discontinuity buffer cuts, and 0 for back-facing
+/// normals (x >= 128); NaN for NaN normals, which exp_negative weighs 0. As an exponent it joins
+/// the depth, albedo and luminance terms in the one exponential per tap, instead of seven
+/// squarings of the clamped cosine.
 template <int W>
-[[gnu::always_inline]] inline vfloat<W> normal_agreement(const vec3<W>& n, const vec3<W>& m) noexcept {
-  const vfloat<W> cosine = dot(n, m);
-  vfloat<W> agreement = select(cosine > vfloat<W>(0.0f), min(cosine, vfloat<W>(1.0f)), vfloat<W>(0.0f));
-  for (int square = 0; square < 7; ++square) agreement *= agreement;
-  return agreement;
+[[gnu::always_inline]] inline vfloat<W> normal_exponent(const vec3<W>& n, const vec3<W>& m) noexcept {
+  return vfloat<W>(128.0f) * (vfloat<W>(1.0f) - dot(n, m));
 }
 
 /// `variance` at the W pixels from `centre` on, blurred over the 3 x 3 kernel (SVGF's
@@ -269,9 +270,8 @@ void atrous_pass(const TileGBuffer& g, const AtrousSettings& settings, int step,
       vec3<W> irradiance(glm::vec3(0.0f)), glossy(glm::vec3(0.0f));
       vfloat<W> weight_irradiance(0.0f), weight_glossy(0.0f), variance_irradiance(0.0f), variance_glossy(0.0f);
       // Adds a tap of `value` with `weight` (and its `variance`) on the lanes of `take` where the
-      // weight is > 0. Weights are finite and >= 0: the kernel times an agreement in [0, 1]
-      // times e^-x in [0, 1], which is 0 for a NaN exponent (infinite or NaN depths, albedos or
-      // irradiance).
+      // weight is > 0. Weights are finite and >= 0: the kernel times e^-x in [0, 1], which is 0
+      // for a NaN exponent (infinite or NaN normals, depths, albedos or irradiance).
       const auto add_tap = [&](const vec3<W>& value, const vfloat<W>& weight, const vfloat<W>& variance, const vmask<W>& take,
                                vec3<W>& sum, vfloat<W>& weights, vfloat<W>& variances) __attribute__((always_inline)) {
         const vmask<W> admitted = take & (weight > zero);
@@ -288,19 +288,20 @@ void atrous_pass(const TileGBuffer& g, const AtrousSettings& settings, int step,
         for (int tx = -1; tx <= 1; ++tx) {
           const vfloat<W> h(atrous_kernel[tx + 1] * atrous_kernel[ty + 1]);
           if (tx == 0 && ty == 0) {
-            // The centre itself: its albedo and luminance differences (no depth term at distance
-            // 0) are zero, or NaN where its albedo or radiance is not finite, so its exponent is 0
-            // (weight e^0 = 1 times kernel and agreement) or NaN (no weight), as the general tap
-            // below would find, without the exponential.
-            const vfloat<W> geometric = h * normal_agreement(normal, normal);
-            const vfloat<W> exponent = length_squared(albedo - albedo) * inverse_albedo_sigma2;
+            // The centre itself: its normal agrees with itself (a unit normal's 128 (1 - cos) is
+            // 0 up to rounding), its albedo and luminance differences (no depth term at distance
+            // 0) are zero, or NaN where its normal, albedo or radiance is not finite, so its
+            // exponent is 0 (weight e^0 = 1 times the kernel) or NaN (no weight), as the general
+            // tap below would find, without the exponential.
+            const vfloat<W> self = dot(normal, normal);
+            const vfloat<W> exponent = (self - self) + length_squared(albedo - albedo) * inverse_albedo_sigma2;
             const vfloat<W> we =
-                keep(geometric, exponent + abs(luminance_irradiance - luminance_irradiance) * inverse_spread_irradiance == zero);
+                keep(h, exponent + abs(luminance_irradiance - luminance_irradiance) * inverse_spread_irradiance == zero);
             add_tap(centre_irradiance, we, load<W>(in.irradiance_variance, centre), columns[1], irradiance, weight_irradiance,
                     variance_irradiance);
             if constexpr (Glossy) {
               const vfloat<W> ws =
-                  keep(geometric, exponent + abs(luminance_glossy - luminance_glossy) * inverse_spread_glossy == zero);
+                  keep(h, exponent + abs(luminance_glossy - luminance_glossy) * inverse_spread_glossy == zero);
               add_tap(centre_glossy, ws, load<W>(in.glossy_variance, centre), columns[1], glossy, weight_glossy,
                       variance_glossy);
             }
@@ -309,18 +310,17 @@ void atrous_pass(const TileGBuffer& g, const AtrousSettings& settings, int step,
           const std::ptrdiff_t neighbour = centre + std::ptrdiff_t(ty * step) * g.width + tx * step;
           const vmask<W> take = columns[tx + 1] & (load<W>(g.hit, neighbour) != zero);
           if (none(take)) continue;
-          const vfloat<W> geometric = h * normal_agreement(normal, load<W>(g.normal, neighbour));
-          // Depth per pixel of distance, albedo and luminance in one exponent: e^-(a+b+c) is
-          // one exponential per tap.
-          vfloat<W> exponent = abs(load<W>(g.depth, neighbour) - depth) * inverse_depth_scale * inverse_step;
+          // Normals, depth per pixel of distance, albedo and luminance in one exponent:
+          // e^-(a+b+c+d) is one exponential per tap.
+          vfloat<W> exponent = normal_exponent(normal, load<W>(g.normal, neighbour));
+          exponent += abs(load<W>(g.depth, neighbour) - depth) * inverse_depth_scale * inverse_step;
           exponent += length_squared(load<W>(g.albedo, neighbour) - albedo) * inverse_albedo_sigma2;
           const vec3<W> e = load<W>(in.irradiance, neighbour);
-          const vfloat<W> we =
-              geometric * exp_negative(exponent + abs(luminance(e) - luminance_irradiance) * inverse_spread_irradiance);
+          const vfloat<W> we = h * exp_negative(exponent + abs(luminance(e) - luminance_irradiance) * inverse_spread_irradiance);
           add_tap(e, we, load<W>(in.irradiance_variance, neighbour), take, irradiance, weight_irradiance, variance_irradiance);
           if constexpr (Glossy) {
             const vec3<W> s = load<W>(in.glossy, neighbour);
-            const vfloat<W> ws = geometric * exp_negative(exponent + abs(luminance(s) - luminance_glossy) * inverse_spread_glossy);
+            const vfloat<W> ws = h * exp_negative(exponent + abs(luminance(s) - luminance_glossy) * inverse_spread_glossy);
             add_tap(s, ws, load<W>(in.glossy_variance, neighbour), take, glossy, weight_glossy, variance_glossy);
           }
         }
@@ -407,6 +407,12 @@ class AtrousFilter {
   /// Pixels around a tile of stage `stage - 1`'s output that stage `stage` > 0 reads: its taps'
   /// step 2^(stage-1), which covers the variance's 3 x 3 blur.
   int stage_reach(int stage) const noexcept { return stage > 0 ? 1 << (stage - 1) : 0; }
+  /// Border of a tile's G-buffer and stage outputs when tiles share their borders: the window
+  /// reads the G-buffer within window_border(S), pass k its geometry and stage k-1 within
+  /// 2^(k-1), so the last pass's step (4 for three passes, against border()'s 8).
+  int staged_border(int interleave) const noexcept {
+    return std::max(window_border(interleave), stage_reach(settings_.passes));
+  }
   /// Stage `stage` over the interior of `gbuffer` (StagedFilter); stage 0 checks the input
   /// (std::invalid_argument) and sizes `tile`'s buffers.
   void run_stage(int stage, const TileGBuffer& gbuffer, int interleave, TileStages& tile) const {

@@ -205,7 +205,9 @@ concept Filter = requires(const F& filter, const TileGBuffer& gbuffer, int inter
 /// output with `copy_stage(k - 1, neighbour, block, tile)`; `finish` writes the last stage's
 /// result. A stage leaves the border of its own output for the next stage's copies to fill (and
 /// zero outside the image), so the result is `apply`'s, pixel for pixel, with no pixel filtered
-/// again for every tile whose border holds it.
+/// again for every tile whose border holds it. `staged_border(S)` is the border such a tile
+/// needs (of its G-buffer and of each stage's output): the farthest any one stage reads, at most
+/// `border(S)`, which is what all stages read together when they run over one tile alone.
 template <class F>
 concept StagedFilter =
     Filter<F> && std::default_initializable<typename F::TileStages> &&
@@ -213,6 +215,7 @@ concept StagedFilter =
              const typename F::TileStages& neighbour, const BlockCopy& block, FilteredTile& out) {
       { filter.stage_count() } -> std::convertible_to<int>;
       { filter.stage_reach(stage) } -> std::convertible_to<int>;
+      { filter.staged_border(interleave) } -> std::convertible_to<int>;
       { filter.run_stage(stage, gbuffer, interleave, tile) } -> std::same_as<void>;
       { filter.copy_stage(stage, neighbour, block, tile) } -> std::same_as<void>;
       { filter.finish(gbuffer, tile, out) } -> std::same_as<void>;

@@ -58,57 +58,48 @@ class FilterChoice {
   };
   /// The chosen filter's stages (StagedFilter); 1 for a filter that runs whole.
   int stage_count() const noexcept {
-    return std::visit(
-        [](const auto& f) {
-          if constexpr (StagedFilter<std::decay_t<decltype(f)>>)
-            return f.stage_count();
-          else
-            return 1;
-        },
-        filter_);
+    return staged_or_whole([](const auto& f) { return f.stage_count(); }, [](const auto&) { return 1; });
   }
   /// Pixels of stage `stage - 1` that stage `stage` reads around a tile (StagedFilter).
   int stage_reach(int stage) const noexcept {
-    return std::visit(
-        [&](const auto& f) {
-          if constexpr (StagedFilter<std::decay_t<decltype(f)>>)
-            return f.stage_reach(stage);
-          else
-            return 0;
-        },
-        filter_);
+    return staged_or_whole([&](const auto& f) { return f.stage_reach(stage); }, [](const auto&) { return 0; });
+  }
+  /// Border of a tile whose tiles share theirs (StagedFilter): the chosen StagedFilter's, or all
+  /// of `border` for a filter that runs whole in `finish`.
+  int staged_border(int interleave) const noexcept {
+    return staged_or_whole([&](const auto& f) { return f.staged_border(interleave); },
+                           [&](const auto& f) { return f.border(interleave); });
   }
   /// Stage `stage` of the chosen filter (StagedFilter); a filter that runs whole only notes `interleave`.
   void run_stage(int stage, const TileGBuffer& gbuffer, int interleave, TileStages& tile) const {
     tile.interleave = interleave;
-    std::visit(
-        [&](const auto& f) {
-          if constexpr (StagedFilter<std::decay_t<decltype(f)>>) f.run_stage(stage, gbuffer, interleave, stages(tile, f));
-        },
-        filter_);
+    staged_or_whole([&](const auto& f) { f.run_stage(stage, gbuffer, interleave, stages(tile, f)); }, [](const auto&) {});
   }
   /// Copies `block` of a neighbour's stage `stage` output into `tile`'s (StagedFilter).
   void copy_stage(int stage, const TileStages& neighbour, const BlockCopy& block, TileStages& tile) const {
-    std::visit(
-        [&](const auto& f) {
-          if constexpr (StagedFilter<std::decay_t<decltype(f)>>)
-            f.copy_stage(stage, stages(neighbour, f), block, stages(tile, f));
-        },
-        filter_);
+    staged_or_whole([&](const auto& f) { f.copy_stage(stage, stages(neighbour, f), block, stages(tile, f)); },
+                    [](const auto&) {});
   }
   /// The chosen filter's result for the interior of `gbuffer` (StagedFilter): its last stage's, or the whole filter applied.
   void finish(const TileGBuffer& gbuffer, const TileStages& tile, FilteredTile& out) const {
-    std::visit(
-        [&](const auto& f) {
-          if constexpr (StagedFilter<std::decay_t<decltype(f)>>)
-            f.finish(gbuffer, stages(tile, f), out);
-          else
-            f.apply(gbuffer, tile.interleave, out);
-        },
-        filter_);
+    staged_or_whole([&](const auto& f) { f.finish(gbuffer, stages(tile, f), out); },
+                    [&](const auto& f) { f.apply(gbuffer, tile.interleave, out); });
   }
 
  private:
+  /// `staged(f)` of the chosen filter f if it is a StagedFilter, else `whole(f)` (the return type
+  /// is spelled out: deduced, it could not be used by the members above).
+  template <class Staged, class Whole>
+  std::invoke_result_t<Whole&, const NoFilter&> staged_or_whole(Staged&& staged, Whole&& whole) const {
+    return std::visit(
+        [&](const auto& f) {
+          if constexpr (StagedFilter<std::decay_t<decltype(f)>>)
+            return staged(f);
+          else
+            return whole(f);
+        },
+        filter_);
+  }
   /// `tile`'s stages of AtrousFilter `filter` (the only StagedFilter among the choices).
   template <class Tile>
   static auto& stages(Tile& tile, const AtrousFilter&) noexcept {

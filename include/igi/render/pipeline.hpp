@@ -182,7 +182,7 @@ class Pipeline {
   /// Renders `tile` of the frame into `out`: shades it with the filter's border around it, then
   /// filters and composes it. What every tile of the MPI farm does.
   void render_tile(const FrameState& frame, const PixelRect& tile, Workspace& work, TileResult& out) const {
-    const PixelRect extended = with_border(frame, tile);
+    const PixelRect extended = with_border(tile, border(frame));
     work.gbuffer.resize(extended.width(), extended.height());  // zero: the border outside the image stays "no hit"
     work.gbuffer.border = tile.x0 - extended.x0;
     begin_stages(frame, work);
@@ -193,12 +193,12 @@ class Pipeline {
   }
 
   /// The first step of a tile of a frame whose tiles share their borders (TileEngine::render_frame):
-  /// shades `tile` alone into the interior of `gbuffer`, its G-buffer with the filter's border
+  /// shades `tile` alone into the interior of `gbuffer`, its G-buffer with `shared_border`
   /// (sized and zeroed here when its size is not that, else only its interior is written); the
   /// rays and stage times go to `rays` and `stages`.
   void shade_tile(const FrameState& frame, const PixelRect& tile, TileGBuffer& gbuffer, Workspace& work, RayCounts& rays,
                   StageTimes& stages) const {
-    const PixelRect extended = with_border(frame, tile);
+    const PixelRect extended = with_border(tile, shared_border(frame));
     if (gbuffer.width != extended.width() || gbuffer.height != extended.height()) {
       gbuffer.resize(extended.width(), extended.height());
       gbuffer.border = tile.x0 - extended.x0;
@@ -227,7 +227,7 @@ class Pipeline {
   void finish_tile(const FrameState& frame, const PixelRect& tile, const TileGBuffer& gbuffer, Workspace& work,
                    TileResult& out) const {
     begin_stages(frame, work);
-    compose(frame, tile, with_border(frame, tile), gbuffer, work, out);
+    compose(frame, tile, with_border(tile, shared_border(frame)), gbuffer, work, out);
     out.stages = work.stages;
   }
 
@@ -251,19 +251,26 @@ class Pipeline {
       const StageTimer timer(work.timing(&StageTimes::filter));
       filter_->finish(gbuffer, stages, work.filtered);
     }
-    compose_filtered(frame, tile, with_border(frame, tile), gbuffer, work, out);
+    compose_filtered(frame, tile, with_border(tile, shared_border(frame)), gbuffer, work, out);
     out.stages = work.stages;
   }
 
   /// Pixels the filter reads around a tile.
   int border(const FrameState& frame) const { return filter_->border(frame.settings.interleave); }
+  /// Pixels around a tile when the frame's tiles share their borders (shade_tile): a
+  /// StagedFilter's staged_border (its stages read less each than all of them together), else `border`.
+  int shared_border(const FrameState& frame) const {
+    if constexpr (StagedFilter<F>)
+      return filter_->staged_border(frame.settings.interleave);
+    else
+      return border(frame);
+  }
   /// The filter.
   const F& filter() const noexcept { return *filter_; }
 
  private:
-  /// `tile` grown by the filter's border.
-  PixelRect with_border(const FrameState& frame, const PixelRect& tile) const {
-    const int around = border(frame);
+  /// `tile` grown by `around` pixels on each side.
+  static PixelRect with_border(const PixelRect& tile, int around) noexcept {
     return {tile.x0 - around, tile.y0 - around, tile.x1 + around, tile.y1 + around};
   }
 

@@ -279,7 +279,7 @@ class TileEngine {
   /// The part of tile `i` grown by the filter's border that lies inside the image.
   PixelRect reach(std::size_t i) const {
     const PixelRect& tile = tiles_[i];
-    const int border = pipeline_.border(frame_);
+    const int border = pipeline_.shared_border(frame_);
     return {std::max(tile.x0 - border, 0), std::max(tile.y0 - border, 0), std::min(tile.x1 + border, settings_.width),
             std::min(tile.y1 + border, settings_.height)};
   }
@@ -306,7 +306,7 @@ class TileEngine {
   template <class Visit>
   void for_each_border_block(std::size_t i, int reach, Visit&& visit) const {
     const PixelRect& tile = tiles_[i];
-    const int border = pipeline_.border(frame_);
+    const int border = pipeline_.shared_border(frame_);
     for_each_neighbour(i, [&](std::size_t j) {
       if (j == i) return;
       const PixelRect& other = tiles_[j];
@@ -325,7 +325,7 @@ class TileEngine {
   /// outside the image stays as sized: zero, "no hit"), all but their unfiltered `radiance`,
   /// which only the tile's own pixels compose.
   void gather_border(std::size_t i) {
-    for_each_border_block(i, pipeline_.border(frame_), [&](std::size_t j, const BlockCopy& block) {
+    for_each_border_block(i, pipeline_.shared_border(frame_), [&](std::size_t j, const BlockCopy& block) {
       shaded_[i].gbuffer.copy_from(shaded_[j].gbuffer, block, false);
     });
   }
