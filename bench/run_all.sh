@@ -113,9 +113,9 @@ fi
 
 # The filters alone on one tile, one thread: ns per pixel of each filter and à-trous stage (medians of 5).
 if [[ $smoke == 1 ]]; then
-  run filters "$(bin filters filters_bench)" --benchmark_min_time=0.001
+  run filters_bench "$(bin filters filters_bench)" --benchmark_min_time=0.001
 else
-  run filters "$(bin filters filters_bench)" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+  run filters_bench "$(bin filters filters_bench)" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 fi
 
 seconds=$(( $(date +%s) - start ))

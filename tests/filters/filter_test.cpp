@@ -428,8 +428,10 @@ TEST_CASE("filters: the G-buffer's planes read and write like arrays of vec3 and
 
 TEST_CASE("filters: the à-trous weights' exponential and normal term hold their documented accuracy", "[filters]") {
   constexpr int W = filter_detail::row_lanes;
-  // e^-t to a relative error below 3.5e-6 on [0, 87), over a sweep fine enough to cross every
-  // rounding step of n = round(t log2 e) in it (87000 x 0.001f rounds above 87: not swept).
+  // e^-t to a relative error below 4e-6 on [0, 87), over a sweep fine enough to cross every
+  // rounding step of n = round(t log2 e) in it (87000 x 0.001f rounds above 87: not swept), with
+  // multiply-adds fused or not (the debug build fuses none: there u computed from the rounded
+  // t log2 e, before Cody and Waite's split of ln2, reached 5.1e-6).
   double worst = 0.0;
   for (int i = 0; i < 87 * 1000; i += W) {
     const vfloat<W> t([&](int lane) { return float(i + lane) * 0.001f; });
@@ -440,7 +442,7 @@ TEST_CASE("filters: the à-trous weights' exponential and normal term hold their
     }
   }
   std::printf("exp_negative: worst relative error on [0, 87] %.3g\n", worst);
-  CHECK(worst < 3.5e-6);
+  CHECK(worst < 4e-6);
   // Zero past 87 (beyond the smallest normal float), for infinity and NaN; 1 for t <= 0.
   const float nan = std::numeric_limits<float>::quiet_NaN(), infinity = std::numeric_limits<float>::infinity();
   for (const float t : {87.5f, 1000.0f, infinity, nan}) CHECK(filter_detail::exp_negative(vfloat<W>(t))[0] == 0.0f);

@@ -49,9 +49,10 @@ TEMPLATE_LIST_TEST_CASE("filters: every filter's image is the same whatever the 
   }
 }
 
-/// render_frame against render_tiles with `filter` on the Cornell box (its red wall glossy metal with `glossy_wall`).
+/// render_frame against render_tiles with `filter` on the Cornell box (its red wall glossy metal
+/// with `glossy_wall`), with S x S interleaving.
 template <class F>
-void check_shared_borders(const F& filter, bool glossy_wall) {
+void check_shared_borders(const F& filter, bool glossy_wall, int interleave = 3) {
   Scene scene = cornell_box();
   if (glossy_wall) {
     scene.materials[1].metallic = 1.0f;  // 1: the red wall
@@ -66,6 +67,7 @@ void check_shared_borders(const F& filter, bool glossy_wall) {
   settings.antialiasing = 2;
   settings.shadow_roulette = 0.2f;
   settings.compensation_rays = 1;
+  settings.interleave = interleave;
   const GltfMaterialShader surface(scene);
   const QmcVplSampler sampler;
   const StandardBrdf brdf;
@@ -86,7 +88,7 @@ void check_shared_borders(const F& filter, bool glossy_wall) {
     return frame;
   };
   for (const std::uint32_t index : {0u, 1u, 2u}) {
-    INFO(filter.name() << ", frame " << index);
+    INFO(filter.name() << ", S = " << interleave << ", frame " << index);
     // Frames 1 and 2 turn the camera by 0.25 radians (a quarter of the image) either way, so
     // tiles that filtered the glossy wall in the frame before no longer see it, and the reverse.
     Camera camera = scene.cameras.front();
@@ -143,6 +145,10 @@ TEST_CASE("filters: FilterChoice runs its filter's stages as the filter alone do
   CHECK(AtrousFilter(one_pass).staged_border(3) == 1);
   CHECK(AtrousFilter(one_pass).staged_border(9) == 4);
   CHECK(AtrousFilter(one_pass).border(9) == 5);
+  // Where the window reaches farther than the passes (S = 5: 2 pixels against one pass's 1), the
+  // shared border is the window's, and the frame still the bordered tiles'.
+  CHECK(AtrousFilter(one_pass).staged_border(5) == 2);
+  check_shared_borders(AtrousFilter(one_pass), false, 5);
   for (const char* name : {"atrous", "discontinuity"}) {
     INFO(name);
     check_shared_borders(FilterChoice(name), true);
