@@ -9,11 +9,16 @@
 //
 //   filters_bench --benchmark_format=json
 //
-// The tile is a view of a room corner traced analytically (a floor, a back wall and a box in front
-// of it, sky above the wall), so it has the depth, normal and albedo edges and the misses the
-// filters' tests stop at; its irradiance is smooth light times the 3 x 3 interleaving pattern
-// times noise from a hash of the pixel, as VPL sets leave it. Counters: items_per_second = pixels
-// of the tile's interior per CPU second, ns_per_pixel its inverse.
+//   atrous_frame/tiles:35/stage_major:0|1
+//                            all stages over 35 such tiles (a 320 x 240 frame's): tile after tile
+//                            (in cache), or each stage over every tile before the next (its
+//                            buffers have left the cache when the next stage comes)
+//
+// The tile is a view of a room traced analytically (a floor, a back wall and a box in front of
+// it), so it has the depth, normal and albedo edges the filters stop at; its irradiance is smooth
+// light times the 3 x 3 interleaving pattern times noise from a hash of the pixel, as VPL sets
+// leave it. Counters: items_per_second = pixels of the tiles' interiors per CPU second,
+// ns_per_pixel its inverse.
 
 #include <cmath>
 #include <cstdint>
@@ -47,7 +52,8 @@ float hash(int x, int y) {
 }
 
 /// The G-buffer of a `tile_size` tile with `border` pixels around it, cut from a 320 x 240 view
-/// where the box's corner, the wall's top edge and the floor meet (image pixels 150 .. of 320).
+/// where the box's left edge and foot and the wall's foot meet (image pixels 140..187 x
+/// 170..217): wall, floor and box front, so a depth step, two creases and albedo edges.
 TileGBuffer room_tile(int border, bool glossy) {
   TileGBuffer g;
   g.border = border;
@@ -58,7 +64,7 @@ TileGBuffer room_tile(int border, bool glossy) {
   static const float pattern[9] = {0.4f, 1.7f, 0.8f, 1.3f, 0.6f, 1.1f, 1.5f, 0.5f, 1.1f};
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {
-      const int image_x = 150 + x - border, image_y = 10 + y - border;
+      const int image_x = 140 + x - border, image_y = 170 + y - border;
       const glm::vec3 direction =
           glm::normalize(glm::vec3(float(image_x) - 160.0f, 120.0f - float(image_y), -focal));
       // Closest of: floor y = 0, back wall z = -4 (up to y = 3), the box's front z = -1.5 (x in
