@@ -3,7 +3,12 @@
 /// What a ray-tracing backend is. The pipeline only ever talks to this interface.
 
 #include <concepts>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <span>
+#include <utility>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -34,6 +39,45 @@ concept Backend = requires(B& backend, const B& traced, RayPacket<B::width>& ray
   { backend.set_instance_transform(index, transform) } -> std::same_as<void>;
   { backend.set_mesh_positions(index, positions) } -> std::same_as<void>;
   { backend.commit() } -> std::same_as<void>;
+};
+
+/// A triangle an occlusion query met on an alpha cut-out mesh (material alphaMode MASK), as a
+/// CutoutTest sees it: the ray in world space, the hit's distance along it and its barycentrics.
+struct OcclusionCandidate {
+  glm::vec3 origin{0.0f};     ///< World-space ray origin.
+  glm::vec3 direction{0.0f};  ///< World-space ray direction, as traced (not normalised).
+  float distance = 0.0f;      ///< Ray parameter of the hit.
+  float u = 0.0f;             ///< Barycentric coordinate of the triangle's second vertex.
+  float v = 0.0f;             ///< Barycentric coordinate of its third vertex.
+  std::uint32_t mesh = 0;      ///< Mesh index.
+  std::uint32_t instance = 0;  ///< Instance index.
+  std::uint32_t primitive = 0; ///< Triangle index within the mesh.
+};
+
+/// Whether a cut-out's triangle blocks an occlusion query where it was met (true: opaque there).
+/// Called from every tracing thread at once: it must be thread-safe.
+using CutoutTest = std::function<bool(const OcclusionCandidate&)>;
+
+/// The meshes of `scene` that are alpha cut-outs (material alphaMode MASK), indexed by mesh. A
+/// material index the scene lacks counts as no cut-out (validate_scene and the shaders report it).
+inline std::vector<bool> cutout_meshes(const Scene& scene) {
+  std::vector<bool> cutouts(scene.meshes.size(), false);
+  for (std::size_t mesh = 0; mesh < scene.meshes.size(); ++mesh) {
+    const int material = scene.meshes[mesh].material;
+    cutouts[mesh] = material >= 0 && std::size_t(material) < scene.materials.size() &&
+                    scene.materials[std::size_t(material)].alpha_mode == AlphaMode::mask;
+  }
+  return cutouts;
+}
+
+/// A backend whose occlusion queries can pass through alpha cut-outs during traversal: with a
+/// test set, a triangle of a cut-out mesh blocks only where the test says so (Embree: an
+/// occlusion filter function on those meshes). `cutout_test_set()` says whether one is set;
+/// set it between frames, never while rays are traced. Without one, cut-outs block everywhere.
+template <class B>
+concept CutoutTestingBackend = Backend<B> && requires(B& backend, const B& traced, CutoutTest test) {
+  { backend.set_cutout_test(std::move(test)) } -> std::same_as<void>;
+  { traced.cutout_test_set() } -> std::same_as<bool>;
 };
 
 }  // namespace igi

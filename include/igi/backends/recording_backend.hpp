@@ -121,6 +121,18 @@ class RecordingBackend {
   void set_mesh_positions(int index, std::span<const glm::vec3> positions) { inner_.set_mesh_positions(index, positions); }
   /// Forwarded to B.
   void commit() { inner_.commit(); }
+  /// B::set_cutout_test, where B has one (the occlusion queries' filtering is B's, not recorded).
+  void set_cutout_test(CutoutTest test)
+    requires CutoutTestingBackend<B>
+  {
+    inner_.set_cutout_test(std::move(test));
+  }
+  /// B::cutout_test_set, where B has one.
+  bool cutout_test_set() const noexcept
+    requires CutoutTestingBackend<B>
+  {
+    return inner_.cutout_test_set();
+  }
 
   /// The wrapped backend.
   const B& inner() const noexcept { return inner_; }

@@ -17,6 +17,7 @@
 #include "igi/scene/camera.hpp"
 #include "igi/scene/scene_bounds.hpp"
 #include "igi/shading/constants.hpp"
+#include "igi/shading/cutout_occlusion.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 #include "igi/simd/float_mode.hpp"
 
@@ -54,6 +55,7 @@ struct FrameOptions {
 struct FrameState {
   const Scene* scene = nullptr;                ///< The scene as of this frame.
   SceneGeometry geometry;                      ///< The scene's instance matrices as of this frame.
+  CutoutMeshes cutouts;                        ///< The scene's alpha cut-out meshes, which shadow rays pass where transparent.
   std::optional<PinholeProjection> projection; ///< Primary-ray generator; empty before prepare.
   VplSets vpls;                                ///< This frame's VPL sets (S^2 of them).
   RenderSettings settings;                     ///< Resolution, S, M, N, ...
@@ -84,6 +86,7 @@ struct FrameState {
       vpls = sampler.generate(scene, backend, surface, brdf, vpl_settings_for(frame_settings, index, bounds, &view));
     }
     assign_vpl_radii(vpls);
+    cutouts = CutoutMeshes(scene);
     this->scene = &scene;
     geometry.update(scene);
     projection.emplace(frame_projection);

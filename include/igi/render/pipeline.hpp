@@ -8,8 +8,9 @@
 ///   2. all of them traced, hits kept as structure-of-arrays streams;
 ///   3. the surface shader turns every hit into BRDF parameters (alpha cut-outs re-traced);
 ///   4. for each VPL of the set's k-th subset (and the delta lights' exact VPLs, in every
-///      sub-sample), for each packet: a coherent shadow packet, one occlusion query, and the BRDF
-///      shader's masked contribution;
+///      sub-sample), for each packet: a coherent shadow packet, one occlusion query (which passes
+///      alpha cut-outs where they are transparent: occluded_by_opaque), and the BRDF shader's
+///      masked contribution;
 ///   4b. with bias compensation (RenderSettings::compensation_rays), short gather rays from the
 ///       primary hits return the light the 1/d^2 clamp removed (see `compensate`);
 ///   5. mirror and glass rays spawned by the BRDF shader run steps 2-4 again, level by level;
@@ -39,6 +40,7 @@
 #include "igi/render/pixel_layers.hpp"
 #include "igi/shading/brdf_shader.hpp"
 #include "igi/shading/constants.hpp"
+#include "igi/shading/cutout_occlusion.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 #include "igi/shading/surface_shader.hpp"
 #include "igi/simd/sampling.hpp"
@@ -416,11 +418,10 @@ class Pipeline {
             play_roulette(frame, std::uint32_t(j), packet, geometry, intensity, shadow, packet.*into, work, counts);
             continue;
           }
-          // Shadow rays all end at one VPL: coherent, even from a mirror's scattered hit points.
           vmask<W> occluded;
           {
             const StageTimer timer(work.timing(&StageTimes::shadow));
-            occluded = backend_->occluded(shadow, Coherence::coherent, geometry.reaches);
+            occluded = occluded_by_opaque(frame, shadow, geometry.reaches);
           }
           counts.shadow += std::uint64_t(popcount(geometry.reaches));
           add_vpl(packet, geometry, intensity, packet.*into, geometry.reaches & !occluded);
@@ -428,6 +429,14 @@ class Pipeline {
       }
     }
     if (work.profile) work.stages.connect += vpl_loop - (work.stages.shadow - shadow_before);
+  }
+
+  /// Lanes of `mask` an opaque surface blocks on the way along `shadow` (igi::occluded_by_opaque:
+  /// alpha cut-outs pass light where they are transparent). Shadow rays all end at one VPL:
+  /// coherent, even from a mirror's scattered hit points.
+  vmask<W> occluded_by_opaque(const FrameState& frame, RayPacket<W>& shadow, const vmask<W>& mask) const {
+    return igi::occluded_by_opaque(*backend_, *surface_, *frame.scene, frame.geometry, frame.cutouts, frame.ray_epsilon, shadow,
+                                   Coherence::coherent, mask);
   }
 
   /// Step 4 for one VPL and packet with shadow-ray Russian roulette: the VPL's unoccluded light is
@@ -464,7 +473,7 @@ class Pipeline {
     vmask<W> occluded;
     {
       const StageTimer timer(work.timing(&StageTimes::shadow));
-      occluded = backend_->occluded(shadow, Coherence::coherent, traced);
+      occluded = occluded_by_opaque(frame, shadow, traced);
     }
     counts.shadow += std::uint64_t(popcount(traced));
     const vmask<W> visible = traced & !occluded;

@@ -57,6 +57,9 @@ class TileEngine {
         tiles_(make_tiles(settings.width, settings.height, settings.tile_size)),
         all_tiles_(tiles_.size()) {
     std::iota(all_tiles_.begin(), all_tiles_.end(), 0);
+    // Shadow rays pass alpha cut-outs inside the backend's traversal where it can (else the
+    // pipeline traces blocked shadow rays again: igi::occluded_by_opaque).
+    if constexpr (CutoutTestingBackend<B>) test_cutouts_with(*backend_, *scene_, surface);
   }
 
   /// Moves instance `instance` (takes effect at the next frame).

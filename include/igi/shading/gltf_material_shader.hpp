@@ -33,6 +33,7 @@
 
 #include <glm/glm.hpp>
 
+#include "igi/backends/backend.hpp"
 #include "igi/scene/scene.hpp"
 #include "igi/shading/scalar_shader_adapter.hpp"
 #include "igi/shading/texture_sampling.hpp"
@@ -124,6 +125,31 @@ class GltfMaterialShader {
                point.shading_normal);
     }
     return parameters;
+  }
+
+  /// Whether a shadow ray's candidate on an alpha cut-out is opaque: shade()'s alpha test alone
+  /// (base colour factor's alpha times the texture's at full resolution, against alphaCutoff),
+  /// at the candidate's texture coordinates interpolated as make_surface_hit does, for
+  /// test_cutouts_with. Throws std::out_of_range for ids the scene lacks.
+  bool opaque_at(const OcclusionCandidate& candidate) const {
+    if (candidate.mesh >= scene_->meshes.size() || candidate.primitive >= scene_->meshes[candidate.mesh].triangles.size())
+      throw std::out_of_range("GltfMaterialShader: triangle " + std::to_string(candidate.primitive) + " of mesh " +
+                              std::to_string(candidate.mesh) + " is not in the scene");
+    const Material& m = scene_->material_of(int(candidate.mesh));
+    if (m.alpha_mode != AlphaMode::mask) return true;
+    float alpha = m.base_color.a;
+    if (m.base_color_texture >= 0) {
+      const Mesh& mesh = scene_->meshes[candidate.mesh];
+      glm::vec2 uv(0.0f);
+      const glm::uvec3 triangle = mesh.triangles[candidate.primitive];
+      if (mesh.uvs.size() == mesh.positions.size() && triangle.x < mesh.uvs.size() && triangle.y < mesh.uvs.size() &&
+          triangle.z < mesh.uvs.size()) {
+        const float b1 = candidate.u, b2 = candidate.v, b0 = 1.0f - b1 - b2;
+        uv = b0 * mesh.uvs[triangle.x] + b1 * mesh.uvs[triangle.y] + b2 * mesh.uvs[triangle.z];
+      }
+      alpha *= sample_bilinear((*mips_)[std::size_t(m.base_color_texture)].level(0), uv).a;
+    }
+    return alpha >= m.alpha_cutoff;
   }
 
  private:

@@ -20,6 +20,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
@@ -107,6 +108,12 @@ class EmbreeBackend {
   /// Commits what changed (see EmbreeScene::commit).
   void commit() { scene_->commit(); }
 
+  /// Occlusion queries pass the alpha cut-outs' triangles where `test` finds them transparent
+  /// (Embree occlusion filter functions; see CutoutTestingBackend). Only between frames.
+  void set_cutout_test(CutoutTest test) { scene_->set_cutout_test(std::move(test)); }
+  /// Whether a cut-out test is set.
+  bool cutout_test_set() const noexcept { return scene_->cutout_test_set(); }
+
   /// The Embree device, for callers who add their own Embree objects (errors still surface here).
   RTCDevice device() const noexcept { return scene_->device(); }
   /// The Embree scene rays are traced in: the flattened scene itself while no instance is an
@@ -123,5 +130,6 @@ class EmbreeBackend {
 };
 
 static_assert(Backend<EmbreeBackend<1>> && Backend<EmbreeBackend<4>> && Backend<EmbreeBackend<8>> && Backend<EmbreeBackend<16>>);
+static_assert(CutoutTestingBackend<EmbreeBackend<16>>);
 
 }  // namespace igi

@@ -29,6 +29,7 @@
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
 
+#include "igi/backends/backend.hpp"
 #include "igi/backends/packet.hpp"
 #include "igi/backends/world_triangles.hpp"
 #include "igi/scene/scene.hpp"
@@ -84,6 +85,7 @@ class EmbreeScene {
                         "\") failed: " + detail::embree_error_name(rtcGetDeviceError(nullptr)));
     rtcSetDeviceErrorFunction(state_.device, &State::on_error, &state_);
 
+    state_.cutouts = cutout_meshes(scene);
     for (const Mesh& mesh : scene.meshes) add_mesh(mesh);
     state_.top = rtcNewScene(state_.device);
     check("rtcNewScene (instances)");
@@ -212,6 +214,13 @@ class EmbreeScene {
     state_.traced = any_instanced ? state_.top : state_.flat;
   }
 
+  /// Lets occlusion queries pass the alpha cut-outs' triangles wherever `test` says they are
+  /// transparent (see CutoutTestingBackend); an empty test makes them block everywhere again.
+  /// Only between frames: the filter functions read it while rays are traced.
+  void set_cutout_test(CutoutTest test) { state_.cutout_test = std::move(test); }
+  /// Whether a cut-out test is set.
+  bool cutout_test_set() const noexcept { return bool(state_.cutout_test); }
+
   /// The Embree device, for callers who add their own Embree objects (errors still surface here).
   RTCDevice device() const noexcept { return state_.device; }
   /// The Embree scene rays are traced in: the flattened scene itself while no instance is an
@@ -272,6 +281,8 @@ class EmbreeScene {
     std::vector<std::pair<int, glm::mat4>> pending_transforms;  ///< Instance moves waiting for commit().
     bool flat_dirty = false;                ///< The flattened scene needs a rebuild.
     bool top_dirty = false;                 ///< Needs a re-commit.
+    std::vector<bool> cutouts;              ///< Per mesh: an alpha cut-out, whose triangles carry the occlusion filter.
+    CutoutTest cutout_test;                 ///< What the occlusion filter asks; empty: cut-outs block.
     mutable std::mutex error_mutex;         ///< Guards `error_message` (Embree may report from any thread).
     std::string error_message;              ///< First message since the last check.
 
@@ -280,6 +291,39 @@ class EmbreeScene {
       const std::lock_guard lock(state->error_mutex);
       if (state->error_message.empty())
         state->error_message = std::string(detail::embree_error_name(code)) + ": " + (message ? message : "");
+    }
+
+    /// Embree's occlusion filter on the cut-out meshes' triangles: rejects the hits
+    /// `cutout_test` finds transparent, so the query goes on past them. Hits in the flattened
+    /// scene carry geomID = instance in world space; hits through an Embree instance carry
+    /// geomID = mesh, instID = instance, and the ray in the instance's object space, which the
+    /// instance's transform takes back to world space.
+    static void filter_occlusion(const RTCFilterFunctionNArguments* args) {
+      const auto* state = static_cast<const State*>(args->geometryUserPtr);
+      if (!state->cutout_test) return;
+      const unsigned n = args->N;
+      for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] == 0) continue;
+        OcclusionCandidate candidate;
+        const unsigned geometry = RTCHitN_geomID(args->hit, n, i), instance = RTCHitN_instID(args->hit, n, i, 0);
+        candidate.origin = {RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i), RTCRayN_org_z(args->ray, n, i)};
+        candidate.direction = {RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i), RTCRayN_dir_z(args->ray, n, i)};
+        candidate.distance = RTCRayN_tfar(args->ray, n, i);
+        candidate.u = RTCHitN_u(args->hit, n, i);
+        candidate.v = RTCHitN_v(args->hit, n, i);
+        candidate.primitive = RTCHitN_primID(args->hit, n, i);
+        if (instance != RTC_INVALID_GEOMETRY_ID && instance != state->flat_id) {
+          const glm::mat4& transform = state->instances[instance].transform;
+          candidate.origin = glm::vec3(transform * glm::vec4(candidate.origin, 1.0f));
+          candidate.direction = glm::mat3(transform) * candidate.direction;
+          candidate.mesh = geometry;
+          candidate.instance = instance;
+        } else {
+          candidate.mesh = unsigned(state->instances[geometry].mesh);
+          candidate.instance = geometry;
+        }
+        if (!state->cutout_test(candidate)) args->valid[i] = 0;
+      }
     }
 
     void check(const std::string& what) {
@@ -321,9 +365,16 @@ class EmbreeScene {
     mesh.triangles = source.triangles;
   }
 
-  /// A triangle geometry over `mesh`'s shared indices with `vertices` as its vertex buffer.
-  RTCGeometry new_triangles(const MeshEntry& mesh, const void* vertices, bool embree_owned_vertices) {
+  /// A triangle geometry over mesh `index`'s shared indices with `vertices` as its vertex buffer,
+  /// with the occlusion filter if the mesh is a cut-out (set here, before any commit: setting it
+  /// later would need the scene rebuilt).
+  RTCGeometry new_triangles(std::size_t index, const void* vertices, bool embree_owned_vertices) {
+    const MeshEntry& mesh = state_.meshes[index];
     RTCGeometry geometry = rtcNewGeometry(state_.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    if (state_.cutouts[index]) {
+      rtcSetGeometryUserData(geometry, &state_);
+      rtcSetGeometryOccludedFilterFunction(geometry, &State::filter_occlusion);
+    }
     if (!embree_owned_vertices)
       rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices, 0,
                                  sizeof(glm::vec3), mesh.vertex_count);
@@ -343,7 +394,7 @@ class EmbreeScene {
     check("rtcNewScene (mesh '" + mesh.name + "')");
     mesh.dirty = true;
     if (mesh.triangles.empty()) return;
-    mesh.geometry = new_triangles(mesh, mesh.positions.data(), false);
+    mesh.geometry = new_triangles(index, mesh.positions.data(), false);
     // Vertex changes refit the existing hierarchy instead of rebuilding it.
     rtcSetGeometryBuildQuality(mesh.geometry, RTC_BUILD_QUALITY_REFIT);
     rtcCommitGeometry(mesh.geometry);
@@ -356,7 +407,7 @@ class EmbreeScene {
     InstanceEntry& instance = state_.instances[index];
     const MeshEntry& mesh = state_.meshes[instance.mesh];
     if (mesh.triangles.empty()) return;
-    RTCGeometry geometry = new_triangles(mesh, nullptr, true);
+    RTCGeometry geometry = new_triangles(instance.mesh, nullptr, true);
     auto* world = static_cast<glm::vec3*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                  sizeof(glm::vec3), mesh.vertex_count));
     check("rtcSetNewGeometryBuffer (instance '" + instance.name + "')");

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -33,7 +34,7 @@ class ReferenceBackend {
   static constexpr const char* name() noexcept { return "reference"; }
 
   /// Builds the hierarchy over `scene`; throws std::invalid_argument if the scene is malformed.
-  explicit ReferenceBackend(const Scene& scene) : geometry_(scene, "igi::ReferenceBackend") {
+  explicit ReferenceBackend(const Scene& scene) : geometry_(scene, "igi::ReferenceBackend"), cutouts_(cutout_meshes(scene)) {
     build();
   }
 
@@ -97,6 +98,12 @@ class ReferenceBackend {
 
   /// Rebuilds the hierarchy from the current transforms and positions.
   void commit() { build(); }
+
+  /// Occlusion queries pass the alpha cut-outs' triangles where `test` finds them transparent
+  /// (see CutoutTestingBackend). Only between frames.
+  void set_cutout_test(CutoutTest test) { cutout_test_ = std::move(test); }
+  /// Whether a cut-out test is set.
+  bool cutout_test_set() const noexcept { return bool(cutout_test_); }
 
   /// Number of hierarchy nodes (for tests and statistics).
   std::size_t node_count() const noexcept { return nodes_.size(); }
@@ -209,17 +216,25 @@ class ReferenceBackend {
         ray, [&] { return ray.tfar; },
         [&](const WorldTriangle& triangle) {
           TriangleHit hit;
-          blocked = intersect_triangle(sheared, ray.tnear, ray.tfar, triangle.v0, triangle.v1, triangle.v2, hit);
-          return blocked;
+          if (!intersect_triangle(sheared, ray.tnear, ray.tfar, triangle.v0, triangle.v1, triangle.v2, hit)) return false;
+          if (cutout_test_ && cutouts_[triangle.mesh] &&
+              !cutout_test_({.origin = ray.origin, .direction = ray.direction, .distance = hit.t, .u = hit.u, .v = hit.v,
+                             .mesh = triangle.mesh, .instance = triangle.instance, .primitive = triangle.primitive}))
+            return false;  // transparent there: the ray goes on
+          blocked = true;
+          return true;
         });
     return blocked;
   }
 
   FlattenedGeometry geometry_;  ///< What is traced, as of the last update.
+  std::vector<bool> cutouts_;   ///< Per mesh: an alpha cut-out, which blocks only where cutout_test_ says.
+  CutoutTest cutout_test_;      ///< Empty: cut-outs block everywhere.
   std::vector<WorldTriangle> triangles_;  ///< World triangles in leaf order.
   std::vector<Node> nodes_;              ///< Node 0 is the root.
 };
 
 static_assert(Backend<ReferenceBackend<1>> && Backend<ReferenceBackend<8>> && Backend<ReferenceBackend<64>>);
+static_assert(CutoutTestingBackend<ReferenceBackend<8>>);
 
 }  // namespace igi
