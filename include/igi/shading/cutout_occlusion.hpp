@@ -125,7 +125,7 @@ vmask<N> occluded_by_opaque(const B& backend, const Surface& surface, const Scen
     for (int lane = 0; lane < N; ++lane) {
       if (!pending[lane]) continue;
       if (hits.geomID[lane] == invalid_id) {
-        blocked.set(lane, false);  // only cut-outs lay on the way, and it passed them all
+        blocked.set(lane, false);  // only cut-outs lie on the way, and it passed them all
         pending.set(lane, false);
       } else if (cutouts.contains(hits.geomID[lane])) {
         cutout.set(lane, true);
