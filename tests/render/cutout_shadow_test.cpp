@@ -178,6 +178,13 @@ TEST_CASE("cut-outs: GltfMaterialShader's opaque_at is shade()'s alpha test, on 
   OcclusionCandidate outside;
   outside.mesh = std::uint32_t(scene.meshes.size());
   CHECK_THROWS_AS(surface.opaque_at(outside), std::out_of_range);
+  Scene broken = scene;
+  broken.meshes[std::size_t(sheet_mesh)].material = 99;  // a material the scene lacks
+  const GltfMaterialShader broken_surface(broken);
+  OcclusionCandidate on_sheet;
+  on_sheet.mesh = std::uint32_t(sheet_mesh);
+  on_sheet.instance = std::uint32_t(sheet_instance);
+  CHECK_THROWS_AS(broken_surface.opaque_at(on_sheet), std::out_of_range);
 }
 
 TEMPLATE_TEST_CASE("cut-outs: a backend's cut-out test sees each candidate in world space, with its mesh, instance and "

@@ -135,11 +135,13 @@ class GltfMaterialShader {
     if (candidate.mesh >= scene_->meshes.size() || candidate.primitive >= scene_->meshes[candidate.mesh].triangles.size())
       throw std::out_of_range("GltfMaterialShader: triangle " + std::to_string(candidate.primitive) + " of mesh " +
                               std::to_string(candidate.mesh) + " is not in the scene");
-    const Material& m = scene_->material_of(int(candidate.mesh));
-    if (m.alpha_mode != AlphaMode::mask) return true;
-    float alpha = m.base_color.a;
-    if (m.base_color_texture >= 0) {
-      const Mesh& mesh = scene_->meshes[candidate.mesh];
+    const Mesh& mesh = scene_->meshes[candidate.mesh];
+    if (mesh.material >= int(scene_->materials.size()))
+      throw std::out_of_range("GltfMaterialShader: material " + std::to_string(mesh.material) + " is not in the scene");
+    const Material& material = scene_->material_of(int(candidate.mesh));
+    if (material.alpha_mode != AlphaMode::mask) return true;
+    float alpha = material.base_color.a;
+    if (material.base_color_texture >= 0) {
       glm::vec2 uv(0.0f);
       const glm::uvec3 triangle = mesh.triangles[candidate.primitive];
       if (mesh.uvs.size() == mesh.positions.size() && triangle.x < mesh.uvs.size() && triangle.y < mesh.uvs.size() &&
@@ -147,9 +149,9 @@ class GltfMaterialShader {
         const float b1 = candidate.u, b2 = candidate.v, b0 = 1.0f - b1 - b2;
         uv = b0 * mesh.uvs[triangle.x] + b1 * mesh.uvs[triangle.y] + b2 * mesh.uvs[triangle.z];
       }
-      alpha *= sample_bilinear((*mips_)[std::size_t(m.base_color_texture)].level(0), uv).a;
+      alpha *= sample_bilinear((*mips_)[std::size_t(material.base_color_texture)].level(0), uv).a;
     }
-    return alpha >= m.alpha_cutoff;
+    return alpha >= material.alpha_cutoff;
   }
 
  private:
