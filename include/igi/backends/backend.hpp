@@ -58,17 +58,32 @@ struct OcclusionCandidate {
 /// Called from every tracing thread at once: it must be thread-safe.
 using CutoutTest = std::function<bool(const OcclusionCandidate&)>;
 
-/// The meshes of `scene` that are alpha cut-outs (material alphaMode MASK), indexed by mesh. A
-/// material index the scene lacks counts as no cut-out (validate_scene and the shaders report it).
-inline std::vector<bool> cutout_meshes(const Scene& scene) {
-  std::vector<bool> cutouts(scene.meshes.size(), false);
-  for (std::size_t mesh = 0; mesh < scene.meshes.size(); ++mesh) {
-    const int material = scene.meshes[mesh].material;
-    cutouts[mesh] = material >= 0 && std::size_t(material) < scene.materials.size() &&
-                    scene.materials[std::size_t(material)].alpha_mode == AlphaMode::mask;
+/// Which meshes of a scene are alpha cut-outs (their material's alphaMode is MASK); empty when
+/// none is, so scenes without cut-outs pay nothing. A material index the scene lacks counts as
+/// no cut-out (validate_scene and the shaders report it).
+class CutoutMeshes {
+ public:
+  /// None.
+  CutoutMeshes() = default;
+  /// The cut-out meshes of `scene` (materials do not change with the frame, only transforms and positions).
+  explicit CutoutMeshes(const Scene& scene) {
+    for (std::size_t mesh = 0; mesh < scene.meshes.size(); ++mesh) {
+      const int material = scene.meshes[mesh].material;
+      if (material >= 0 && std::size_t(material) < scene.materials.size() &&
+          scene.materials[std::size_t(material)].alpha_mode == AlphaMode::mask) {
+        meshes_.resize(scene.meshes.size(), false);
+        meshes_[mesh] = true;
+      }
+    }
   }
-  return cutouts;
-}
+  /// Whether any mesh is a cut-out.
+  bool any() const noexcept { return !meshes_.empty(); }
+  /// Whether mesh `mesh` is a cut-out (false for ids outside the scene).
+  bool contains(std::size_t mesh) const noexcept { return mesh < meshes_.size() && meshes_[mesh]; }
+
+ private:
+  std::vector<bool> meshes_;
+};
 
 /// A backend whose occlusion queries can pass through alpha cut-outs during traversal: with a
 /// test set, a triangle of a cut-out mesh blocks only where the test says so (Embree: an

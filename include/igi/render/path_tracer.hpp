@@ -105,7 +105,7 @@ class PathTracer {
     ray_epsilon_ = ray_offset(scene.bounds());
     if (!std::isfinite(ray_epsilon_) || !(ray_epsilon_ > 0.0f))
       throw std::invalid_argument("PathTracer: scene '" + scene.name + "' has non-finite or empty bounds");
-    for (const Material& material : scene.materials) has_cutouts_ |= material.alpha_mode == AlphaMode::mask;
+    has_cutouts_ = CutoutMeshes(scene).any();
   }
 
   /// Starts a new image of `camera` at width x height (zero samples). Throws SettingsError on a bad size.

@@ -5,12 +5,9 @@
 /// light only where its surface shader finds it opaque. A backend's `occluded` knows nothing of
 /// materials and stops at any triangle, which made foliage and chains cast solid shadows.
 
-#include <algorithm>
 #include <concepts>
-#include <cstddef>
 #include <exception>
 #include <limits>
-#include <vector>
 
 #include "igi/backends/backend.hpp"
 #include "igi/scene/scene.hpp"
@@ -19,25 +16,6 @@
 #include "igi/shading/surface_shader.hpp"
 
 namespace igi {
-
-/// Which meshes of a scene are alpha cut-outs (their material's alphaMode is MASK), for
-/// occluded_by_opaque; empty when none is, so scenes without cut-outs pay nothing.
-class CutoutMeshes {
- public:
-  /// None.
-  CutoutMeshes() = default;
-  /// The cut-out meshes of `scene` (materials do not change with the frame, only transforms and positions).
-  explicit CutoutMeshes(const Scene& scene) : meshes_(cutout_meshes(scene)) {
-    if (std::find(meshes_.begin(), meshes_.end(), true) == meshes_.end()) meshes_.clear();
-  }
-  /// Whether any mesh is a cut-out.
-  bool any() const noexcept { return !meshes_.empty(); }
-  /// Whether mesh `mesh` is a cut-out (false for ids outside the scene).
-  bool contains(unsigned mesh) const noexcept { return mesh < meshes_.size() && meshes_[mesh]; }
-
- private:
-  std::vector<bool> meshes_;
-};
 
 /// An OcclusionCandidate as the ray and hit a closest-hit query returns (one lane).
 struct CandidateHit {
@@ -73,21 +51,15 @@ concept CutoutOpacityShader = requires(const S& shader, const OcclusionCandidate
 template <class B, class Surface>
   requires CutoutTestingBackend<B>
 void test_cutouts_with(B& backend, const Scene& scene, const Surface& surface) {
-  if constexpr (CutoutOpacityShader<Surface>) {
-    backend.set_cutout_test([&surface](const OcclusionCandidate& candidate) {
-      try {
-        return surface.opaque_at(candidate);
-      } catch (const std::exception&) {
-        return true;  // never thrown through the backend's traversal (Embree's is C code)
-      }
-    });
-    return;
-  }
   backend.set_cutout_test([&scene, &surface](const OcclusionCandidate& candidate) {
-    const vmask<1> one(true);
-    const CandidateHit traced = candidate_hit(candidate);
     try {
-      return bool(surface.shade(make_surface_hit(scene, traced.ray, traced.hit, one), one).opaque[0]);
+      if constexpr (CutoutOpacityShader<Surface>) {
+        return surface.opaque_at(candidate);
+      } else {
+        const vmask<1> one(true);
+        const CandidateHit traced = candidate_hit(candidate);
+        return bool(surface.shade(make_surface_hit(scene, traced.ray, traced.hit, one), one).opaque[0]);
+      }
     } catch (const std::exception&) {
       return true;  // never thrown through the backend's traversal (Embree's is C code)
     }

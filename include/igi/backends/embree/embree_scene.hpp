@@ -85,7 +85,7 @@ class EmbreeScene {
                         "\") failed: " + detail::embree_error_name(rtcGetDeviceError(nullptr)));
     rtcSetDeviceErrorFunction(state_.device, &State::on_error, &state_);
 
-    state_.cutouts = cutout_meshes(scene);
+    state_.cutouts = CutoutMeshes(scene);
     for (const Mesh& mesh : scene.meshes) add_mesh(mesh);
     state_.top = rtcNewScene(state_.device);
     check("rtcNewScene (instances)");
@@ -281,7 +281,7 @@ class EmbreeScene {
     std::vector<std::pair<int, glm::mat4>> pending_transforms;  ///< Instance moves waiting for commit().
     bool flat_dirty = false;                ///< The flattened scene needs a rebuild.
     bool top_dirty = false;                 ///< Needs a re-commit.
-    std::vector<bool> cutouts;              ///< Per mesh: an alpha cut-out, whose triangles carry the occlusion filter.
+    CutoutMeshes cutouts;                   ///< The alpha cut-out meshes, whose triangles carry the occlusion filter.
     CutoutTest cutout_test;                 ///< What the occlusion filter asks; empty: cut-outs block.
     mutable std::mutex error_mutex;         ///< Guards `error_message` (Embree may report from any thread).
     std::string error_message;              ///< First message since the last check.
@@ -371,7 +371,7 @@ class EmbreeScene {
   RTCGeometry new_triangles(std::size_t index, const void* vertices, bool embree_owned_vertices) {
     const MeshEntry& mesh = state_.meshes[index];
     RTCGeometry geometry = rtcNewGeometry(state_.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    if (state_.cutouts[index]) {
+    if (state_.cutouts.contains(index)) {
       rtcSetGeometryUserData(geometry, &state_);
       rtcSetGeometryOccludedFilterFunction(geometry, &State::filter_occlusion);
     }

@@ -34,7 +34,7 @@ class ReferenceBackend {
   static constexpr const char* name() noexcept { return "reference"; }
 
   /// Builds the hierarchy over `scene`; throws std::invalid_argument if the scene is malformed.
-  explicit ReferenceBackend(const Scene& scene) : geometry_(scene, "igi::ReferenceBackend"), cutouts_(cutout_meshes(scene)) {
+  explicit ReferenceBackend(const Scene& scene) : geometry_(scene, "igi::ReferenceBackend"), cutouts_(scene) {
     build();
   }
 
@@ -217,7 +217,7 @@ class ReferenceBackend {
         [&](const WorldTriangle& triangle) {
           TriangleHit hit;
           if (!intersect_triangle(sheared, ray.tnear, ray.tfar, triangle.v0, triangle.v1, triangle.v2, hit)) return false;
-          if (cutout_test_ && cutouts_[triangle.mesh] &&
+          if (cutout_test_ && cutouts_.contains(triangle.mesh) &&
               !cutout_test_({.origin = ray.origin, .direction = ray.direction, .distance = hit.t, .u = hit.u, .v = hit.v,
                              .mesh = triangle.mesh, .instance = triangle.instance, .primitive = triangle.primitive}))
             return false;  // transparent there: the ray goes on
@@ -228,7 +228,7 @@ class ReferenceBackend {
   }
 
   FlattenedGeometry geometry_;  ///< What is traced, as of the last update.
-  std::vector<bool> cutouts_;   ///< Per mesh: an alpha cut-out, which blocks only where cutout_test_ says.
+  CutoutMeshes cutouts_;        ///< The alpha cut-out meshes, which block only where cutout_test_ says.
   CutoutTest cutout_test_;      ///< Empty: cut-outs block everywhere.
   std::vector<WorldTriangle> triangles_;  ///< World triangles in leaf order.
   std::vector<Node> nodes_;              ///< Node 0 is the root.
