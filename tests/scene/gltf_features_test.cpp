@@ -299,6 +299,107 @@ TEST_CASE("glTF textures are decoded once, shared by materials, sRGB, top row fi
   CHECK(scene.materials[1].emissive_texture == 0);
 }
 
+TEST_CASE("glTF metallic-roughness textures are linear: an image also used as base colour becomes a second texture",
+          "[scene][gltf]") {
+  const auto dir = scratch_dir("metallic_roughness");
+  const std::vector<std::uint8_t> texels{10, 20, 30, 255, 40, 50, 60, 255, 70, 80, 90, 255, 100, 110, 120, 255};
+  REQUIRE(stbi_write_png((dir / "shared.png").string().c_str(), 2, 2, 4, texels.data(), 8) != 0);
+  REQUIRE(stbi_write_png((dir / "rough.png").string().c_str(), 2, 2, 4, texels.data(), 8) != 0);
+  GltfBuilder b;
+  b.doc["images"] = json::array({{{"uri", "shared.png"}}, {{"uri", "rough.png"}}});
+  b.doc["textures"] = json::array({{{"source", 0}}, {{"source", 1}}});
+  b.doc["materials"] = json::array({
+      // Image 0 as base colour (sRGB) and as metallic-roughness (linear) of one material.
+      {{"name", "varnish"},
+       {"pbrMetallicRoughness",
+        {{"baseColorTexture", {{"index", 0}}}, {"metallicRoughnessTexture", {{"index", 0}}}, {"roughnessFactor", 0.5}}}},
+      // Image 1 only as metallic-roughness, twice: one linear texture.
+      {{"name", "steel"}, {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 1}}}}}},
+      {{"name", "chrome"}, {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 1}}}}}},
+  });
+  b.add_quad_node("quad");
+  b.set_roots({0});
+  const igi::Scene scene = load_clean(b.write_gltf(dir, "metallic_roughness"));
+  REQUIRE(scene.materials.size() == 3);
+  REQUIRE(scene.textures.size() == 3);
+  const igi::Material& varnish = scene.materials[0];
+  REQUIRE(varnish.base_color_texture >= 0);
+  REQUIRE(varnish.metallic_roughness_texture >= 0);
+  CHECK(varnish.base_color_texture != varnish.metallic_roughness_texture);
+  CHECK(scene.textures[std::size_t(varnish.base_color_texture)].srgb);
+  CHECK_FALSE(scene.textures[std::size_t(varnish.metallic_roughness_texture)].srgb);
+  CHECK(scene.textures[std::size_t(varnish.metallic_roughness_texture)].texels == texels);
+  CHECK(varnish.roughness == 0.5f);
+  CHECK(varnish.metallic == 1.0f);  // glTF's default factor, which the texture's blue channel scales
+  const int rough = scene.materials[1].metallic_roughness_texture;
+  CHECK(rough >= 0);
+  CHECK(scene.materials[2].metallic_roughness_texture == rough);
+  CHECK_FALSE(scene.textures[std::size_t(rough)].srgb);
+  CHECK(scene.textures[std::size_t(rough)].name == "rough.png");
+  CHECK(scene.materials[1].base_color_texture == -1);
+}
+
+TEST_CASE("glTF normal textures: linear, with their scale; other sets and lost images warn", "[scene][gltf]") {
+  const auto dir = scratch_dir("normal_textures");
+  const std::vector<std::uint8_t> texels{128, 128, 255, 255};
+  REQUIRE(stbi_write_png((dir / "bumps.png").string().c_str(), 1, 1, 4, texels.data(), 4) != 0);
+  GltfBuilder b;
+  b.doc["images"] = json::array({{{"uri", "bumps.png"}}, {{"uri", "lost.png"}}});
+  b.doc["textures"] = json::array({{{"source", 0}}, {{"source", 1}}});
+  b.doc["materials"] = json::array({
+      {{"name", "plaster"}, {"normalTexture", {{"index", 0}, {"scale", 0.5}}}},
+      {{"name", "tiles"}, {"normalTexture", {{"index", 0}, {"texCoord", 1}}}},
+      {{"name", "stone"}, {"normalTexture", {{"index", 1}}}},
+      {{"name", "paint"}},
+  });
+  b.add_quad_node("quad");
+  b.set_roots({0});
+  std::vector<std::string> warnings;
+  const igi::Scene scene = igi::load_gltf(b.write_gltf(dir, "normals"), &warnings);
+  std::string all;
+  for (const std::string& warning : warnings) all += warning + "\n";
+  INFO(all);
+  REQUIRE(scene.materials.size() == 4);
+  const int bumps = scene.materials[0].normal_texture;
+  REQUIRE(bumps >= 0);
+  CHECK_FALSE(scene.textures[std::size_t(bumps)].srgb);
+  CHECK(scene.materials[0].normal_scale == 0.5f);
+  CHECK(scene.materials[1].normal_texture == bumps);
+  CHECK(scene.materials[1].normal_scale == 1.0f);  // glTF's default
+  CHECK(scene.materials[2].normal_texture == -1);
+  CHECK(scene.materials[3].normal_texture == -1);
+  CHECK_THAT(all, Catch::Contains("'tiles': normal texture uses TEXCOORD_1"));
+  CHECK_THAT(all, Catch::Contains("'stone'") && Catch::Contains("lost.png") &&
+                      Catch::Contains("drops the texture and keeps its normals"));
+}
+
+TEST_CASE("glTF metallic-roughness texture problems are warnings that keep the factors", "[scene][gltf]") {
+  const auto dir = scratch_dir("metallic_roughness_problems");
+  const std::vector<std::uint8_t> texels{0, 255, 255, 255};
+  REQUIRE(stbi_write_png((dir / "one.png").string().c_str(), 1, 1, 4, texels.data(), 4) != 0);
+  GltfBuilder b;
+  b.doc["images"] = json::array({{{"uri", "one.png"}}, {{"uri", "missing.png"}}});
+  b.doc["textures"] = json::array({{{"source", 0}}, {{"source", 1}}});
+  b.doc["materials"] = json::array({
+      {{"name", "second set"}, {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 0}, {"texCoord", 1}}}}}},
+      {{"name", "lost"}, {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 1}}}, {"metallicFactor", 0.25}}}},
+  });
+  b.add_quad_node("quad");
+  b.set_roots({0});
+  std::vector<std::string> warnings;
+  const igi::Scene scene = igi::load_gltf(b.write_gltf(dir, "problems"), &warnings);
+  std::string all;
+  for (const std::string& warning : warnings) all += warning + "\n";
+  INFO(all);
+  CHECK_THAT(all, Catch::Contains("'second set': metallic-roughness texture uses TEXCOORD_1"));
+  CHECK_THAT(all, Catch::Contains("'lost'") && Catch::Contains("missing.png") &&
+                      Catch::Contains("drops the texture; its metallic and roughness factor stays"));
+  REQUIRE(scene.materials.size() == 2);
+  CHECK(scene.materials[0].metallic_roughness_texture == 0);
+  CHECK(scene.materials[1].metallic_roughness_texture == -1);
+  CHECK(scene.materials[1].metallic == 0.25f);
+}
+
 TEST_CASE("glTF materials: factors, emissive strength, transmission, ior, alpha mode, double-sided", "[scene][gltf]") {
   GltfBuilder b;
   b.doc["extensionsUsed"] = {"KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior"};

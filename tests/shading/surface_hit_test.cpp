@@ -82,9 +82,12 @@ TEST_CASE("make_surface_hit: world position, normals, uv and ids match the trans
     const glm::vec3 shading = i < 2 ? shading_world : -shading_world;
     CHECK(glm::length(hit.shading_normal[i] - shading) < 1e-5f);
     CHECK(glm::dot(hit.shading_normal[i], hit.geometric_normal[i]) > 0.0f);
-    // uv of the quad is (x + 0.5, y + 0.5) in object space.
+    // uv of the quad is (x + 0.5, y + 0.5) in object space, so the position's derivatives along
+    // u and v are the transformed x and y axes, on both faces.
     CHECK(hit.u[i] == Approx(targets[i].x + 0.5f).margin(1e-5));
     CHECK(hit.v[i] == Approx(targets[i].y + 0.5f).margin(1e-5));
+    CHECK(glm::length(hit.dpdu[i] - glm::mat3(transform) * glm::vec3(1, 0, 0)) < 1e-5f);
+    CHECK(glm::length(hit.dpdv[i] - glm::mat3(transform) * glm::vec3(0, 1, 0)) < 1e-5f);
     CHECK(hit.material[i] == 0);
     CHECK(hit.mesh[i] == 0);
     CHECK(hit.instance[i] == 0);
@@ -98,6 +101,8 @@ TEST_CASE("make_surface_hit: world position, normals, uv and ids match the trans
   CHECK(hit.shading_normal[3] == glm::vec3(0.0f));
   CHECK(hit.distance[3] == 0.0f);
   CHECK(hit.u[3] == 0.0f);
+  CHECK(hit.dpdu[3] == glm::vec3(0.0f));
+  CHECK(hit.dpdv[3] == glm::vec3(0.0f));
   CHECK_FALSE(hit.front_face[3]);
 }
 

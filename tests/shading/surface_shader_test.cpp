@@ -2,9 +2,11 @@
 // the scalar adapter.
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -48,6 +50,17 @@ SurfaceHit<W> floor_hits(float spacing, float y = 0.0f) {
 }
 
 bool finite(const vec3<W>& v) { return all(isfinite(v.x) & isfinite(v.y) & isfinite(v.z)); }
+
+// A scene of one linear (not sRGB) `width` x `height` RGBA texture and one mesh of material 0,
+// for the textures that hold no colour (metallic-roughness, normals).
+Scene linear_texture_scene(int width, int height, std::vector<std::uint8_t> texels) {
+  Scene scene;
+  scene.textures.push_back({.name = "linear", .width = width, .height = height, .texels = std::move(texels), .srgb = false});
+  Mesh mesh;
+  mesh.material = 0;
+  scene.meshes.push_back(mesh);
+  return scene;
+}
 
 }  // namespace
 
@@ -241,6 +254,144 @@ TEST_CASE("GltfMaterialShader: factors, texture, cut-outs, metal, mirror, glass 
   Scene broken = scene;
   broken.materials[0].base_color_texture = 9;
   CHECK_THROWS_WITH(GltfMaterialShader(broken), Catch::Contains("texture 9"));
+}
+
+TEST_CASE("GltfMaterialShader: metallic-roughness textures scale the factors, linearly, at the footprint", "[shading][gltf]") {
+  // 2 x 2: green (roughness) 64, 255 / 128, 0; blue (metallic) 0, 255 / 51, 204.
+  Scene scene = linear_texture_scene(2, 2, {0, 64, 0, 255, 0, 255, 255, 255, 0, 128, 51, 255, 0, 0, 204, 255});
+  const Texture& texture = scene.textures[0];
+  const glm::vec4 base{0.8f, 0.6f, 0.4f, 1.0f};
+  scene.materials.push_back(
+      {.name = "textured", .base_color = base, .metallic = 0.75f, .roughness = 0.9f, .metallic_roughness_texture = 0});
+  const GltfMaterialShader shader(scene);
+
+  // Each lane at one texel's centre; the same material with the factors times that texel's
+  // channels (linear: code / 255) must shade identically, lobe, mirror and albedo alike.
+  const float centres[4][2] = {{0.25f, 0.25f}, {0.75f, 0.25f}, {0.25f, 0.75f}, {0.75f, 0.75f}};
+  SurfaceHit<W> hit = floor_hits(0.1f);
+  vmask<W> mask(false);
+  Scene expected_scene = scene;
+  expected_scene.materials.clear();
+  expected_scene.textures.clear();
+  for (int texel = 0; texel < 4; ++texel) {
+    hit.u.set(texel, centres[texel][0]);
+    hit.v.set(texel, centres[texel][1]);
+    hit.material.set(texel, 0);
+    mask.set(texel, true);
+    const std::uint8_t* rgba = &texture.texels[std::size_t(texel) * 4];
+    expected_scene.materials.push_back({.name = "factors",
+                                        .base_color = base,
+                                        .metallic = 0.75f * (float(rgba[2]) / 255.0f),
+                                        .roughness = 0.9f * (float(rgba[1]) / 255.0f)});
+  }
+  const GltfMaterialShader expected_shader(expected_scene);
+  SurfaceHit<W> expected_hit = hit;
+  for (int texel = 0; texel < 4; ++texel) expected_hit.material.set(texel, texel);
+  const BrdfParameters<W> p = shader.shade(hit, mask);
+  const BrdfParameters<W> q = expected_shader.shade(expected_hit, mask);
+  for (int lane = 0; lane < 4; ++lane) {
+    INFO("texel " << lane);
+    CHECK(glm::length(p.albedo[lane] - q.albedo[lane]) < 1e-6f);
+    CHECK(glm::length(p.glossy[lane] - q.glossy[lane]) < 1e-6f);
+    CHECK(glm::length(p.mirror[lane] - q.mirror[lane]) < 1e-6f);
+    CHECK(p.shininess[lane] == Approx(q.shininess[lane]).epsilon(1e-5));
+  }
+  // Texel 0: roughness 0.9 x 64/255 = 0.226, metallic 0: a Lambertian surface in the base colour.
+  CHECK(glm::length(p.albedo[0] - glm::vec3(base)) < 1e-6f);
+  CHECK(p.glossy[0] == glm::vec3(0.0f));
+  // Texel 3: roughness 0 (below the mirror threshold), metallic 0.75 x 0.8 = 0.6: 60% mirror.
+  CHECK(glm::length(p.mirror[3] - glm::vec3(base) * 0.6f) < 1e-6f);
+  CHECK(glm::length(p.albedo[3] - glm::vec3(base) * 0.4f) < 1e-6f);
+  // Texel 1: metallic 0.75, roughness 0.9: exponent 2 / 0.9^4 - 2.
+  CHECK(p.shininess[1] == Approx(2.0f / std::pow(0.9f, 4.0f) - 2.0f).epsilon(1e-5));
+
+  // Read as linear, not sRGB: code 128 is roughness 0.9 x 0.502, where sRGB would give 0.9 x 0.216.
+  const float roughness = 0.9f * 128.0f / 255.0f;
+  const float alpha = roughness * roughness;
+  CHECK(p.shininess[2] == Approx(2.0f / (alpha * alpha) - 2.0f).epsilon(1e-5));
+
+  // A footprint wider than the texture reads the 1 x 1 level: the channels' means scale the factors.
+  SurfaceHit<W> wide = hit;
+  wide.texture_footprint = vfloat<W>(4.0f);
+  const BrdfParameters<W> blurred = shader.shade(wide, mask);
+  const TextureMips chain(texture);
+  REQUIRE(chain.count() == 2);
+  const float mean_metallic = 0.75f * float(chain.level(1).texels[2]) / 255.0f;
+  // The mean of 0, 1, 0.2 and 0.8 is 0.5, code 127.5, which the 8-bit level stores within a code.
+  CHECK(mean_metallic == Approx(0.75f * 0.5f).margin(0.75f / 255.0f));
+  for (int lane = 0; lane < 4; ++lane)
+    CHECK(glm::length(blurred.albedo[lane] - glm::vec3(base) * (1.0f - mean_metallic)) < 1e-6f);
+
+  // A texture the scene lacks is an error with a message.
+  Scene broken = scene;
+  broken.materials[0].metallic_roughness_texture = 3;
+  CHECK_THROWS_WITH(GltfMaterialShader(broken), Catch::Contains("texture 3"));
+}
+
+TEST_CASE("GltfMaterialShader: normal textures tilt the normal in the uv tangent frame, as glTF orients it",
+          "[shading][gltf]") {
+  // 4 x 1: flat (128, 128, 255), tilted 45 degrees towards +x of the map (218, 128, 218),
+  // towards +y (128, 218, 218), and pointing into the surface (128, 128, 0).
+  Scene scene = linear_texture_scene(4, 1, {128, 128, 255, 255, 218, 128, 218, 255, 128, 218, 218, 255, 128, 128, 0, 255});
+  Material bumpy{.name = "bumpy", .metallic = 0.0f};
+  bumpy.normal_texture = 0;
+  scene.materials.push_back(bumpy);
+  Material flattened = bumpy;
+  flattened.normal_scale = 0.0f;
+  scene.materials.push_back(flattened);
+  const GltfMaterialShader shader(scene);
+
+  // A floor facing +y, u along +x, v along +z (its image's up is -z); lane i reads texel i % 4.
+  SurfaceHit<W> hit = floor_hits(0.1f);
+  hit.dpdu = vec3<W>(glm::vec3(2.0f, 0.0f, 0.0f));
+  hit.dpdv = vec3<W>(glm::vec3(0.0f, 0.0f, 3.0f));
+  for (int i = 0; i < W; ++i) {
+    hit.u.set(i, (float(i % 4) + 0.5f) / 4.0f);
+    hit.v.set(i, 0.5f);
+    hit.material.set(i, 0);
+  }
+  // Lane 4: mirrored uvs (v along -z: the image's up is +z). Lane 5: the back face of the floor,
+  // seen from below. Lane 6: no uv frame. Lane 7: scale 0.
+  hit.dpdv.set(4, {0.0f, 0.0f, -3.0f});
+  hit.u.set(4, 2.5f / 4.0f);
+  hit.shading_normal.set(5, {0.0f, -1.0f, 0.0f});
+  hit.geometric_normal.set(5, {0.0f, -1.0f, 0.0f});
+  hit.wo.set(5, {0.0f, -1.0f, 0.0f});
+  hit.front_face.set(5, false);
+  hit.u.set(5, 1.5f / 4.0f);
+  hit.dpdu.set(6, glm::vec3(0.0f));
+  hit.u.set(6, 1.5f / 4.0f);
+  hit.material.set(7, 1);
+  hit.u.set(7, 1.5f / 4.0f);
+  const BrdfParameters<W> p = shader.shade(hit, vmask<W>(true));
+
+  // 8-bit texels: 128 and 218 decode to 2 c / 255 - 1 = 0.0039 and 0.7098, which the expected
+  // normals use too; 1e-5 is float rounding of unit vectors.
+  const auto decode = [](float code) { return 2.0f * code / 255.0f - 1.0f; };
+  const auto near = [](const glm::vec3& a, const glm::vec3& b) { return glm::length(a - b) < 1e-5f; };
+  const float flat = decode(128.0f), tilt = decode(218.0f);
+  // Map axes on the floor: x -> +x (dp/du), y -> -z (against dp/dv), z -> +y.
+  CHECK(near(p.normal[0], glm::normalize(glm::vec3(flat, decode(255.0f), -flat))));
+  CHECK(near(p.normal[1], glm::normalize(glm::vec3(tilt, tilt, -flat))));
+  CHECK(near(p.normal[2], glm::normalize(glm::vec3(flat, tilt, -tilt))));
+  // Mirrored: the map's +y still points against dp/dv, now +z.
+  CHECK(near(p.normal[4], glm::normalize(glm::vec3(flat, tilt, tilt))));
+  // Back face: the front face's tilted normal, turned round.
+  CHECK(near(p.normal[5], -glm::normalize(glm::vec3(tilt, tilt, -flat))));
+  // No frame, or scale 0: the shading normal (scale 0 keeps only the map's z).
+  CHECK(near(p.normal[6], glm::vec3(0.0f, 1.0f, 0.0f)));
+  CHECK(near(p.normal[7], glm::vec3(0.0f, 1.0f, 0.0f)));
+  // The tilt stays within 0.01 of 45 degrees, as the texel says.
+  CHECK(std::acos(p.normal[1].y) == Approx(0.25f * 3.14159265f).margin(0.01f));
+
+  // A texel pointing into the surface gives a normal that faces away from wo: shading falls
+  // back to the geometric normal rather than lighting the floor from behind.
+  CHECK(near(p.normal[3], glm::normalize(glm::vec3(flat, -1.0f, -flat))));
+  CHECK(near(shading_frame_normal(hit, p)[3], glm::vec3(0.0f, 1.0f, 0.0f)));
+
+  Scene broken = scene;
+  broken.materials[0].normal_texture = 5;
+  CHECK_THROWS_WITH(GltfMaterialShader(broken), Catch::Contains("texture 5"));
 }
 
 TEST_CASE("noise: bounded, zero on the lattice, continuous, seeded and width independent", "[shading][noise]") {

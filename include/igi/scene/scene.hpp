@@ -20,7 +20,7 @@ struct Texture {
   int width = 0;                     ///< Texels per row.
   int height = 0;                    ///< Rows.
   std::vector<std::uint8_t> texels;  ///< RGBA8, row-major, top row first (glTF's uv origin).
-  bool srgb = true;                  ///< True if texels are sRGB-encoded (base colour, emission).
+  bool srgb = true;                  ///< True if texels are sRGB-encoded (base colour, emission), false if linear (metallic-roughness, normals).
 };
 
 /// How a material's alpha is used (glTF `alphaMode`).
@@ -34,6 +34,14 @@ struct Material {
   int base_color_uv_set = 0;                           ///< TEXCOORD_n used by that texture.
   float metallic = 1.0f;                               ///< glTF default 1.
   float roughness = 1.0f;                              ///< glTF default 1.
+  /// glTF metallicRoughnessTexture: index into Scene::textures (linear, not sRGB), or -1. Its
+  /// green channel scales `roughness`, its blue channel `metallic`.
+  int metallic_roughness_texture = -1;
+  /// glTF normalTexture: index into Scene::textures (linear), or -1. Tangent-space normals: x
+  /// along increasing u, y along decreasing v (the image's up), z along the shading normal.
+  int normal_texture = -1;
+  /// glTF normalTexture.scale: scales the map's x and y (0 leaves the normal as it is).
+  float normal_scale = 1.0f;
   glm::vec3 emission{0.0f};                            ///< Emitted radiance: factor x KHR_materials_emissive_strength.
   int emissive_texture = -1;                           ///< Index into Scene::textures, or -1.
   float transmission = 0.0f;                           ///< KHR_materials_transmission factor.

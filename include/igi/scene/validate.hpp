@@ -177,14 +177,16 @@ inline void validate_scene(Scene& scene, std::vector<std::string>* warnings = nu
   }
   check_scene_extent(scene, where);
   for (const Material& material : scene.materials) {
-    for (const int texture : {material.base_color_texture, material.emissive_texture})
+    for (const int texture :
+         {material.base_color_texture, material.emissive_texture, material.metallic_roughness_texture, material.normal_texture})
       if (texture < -1 || texture >= int(scene.textures.size()))
         throw SceneError(detail::located(where, "material '" + material.name + "' uses texture " + std::to_string(texture) +
                                                     " but the scene has " + std::to_string(scene.textures.size())));
     if (!std::isfinite(material.base_color.r) || !std::isfinite(material.base_color.g) ||
         !std::isfinite(material.base_color.b) || !std::isfinite(material.base_color.a) ||
         !detail::finite(material.emission) || !std::isfinite(material.metallic) || !std::isfinite(material.roughness) ||
-        !std::isfinite(material.transmission) || !std::isfinite(material.ior) || !std::isfinite(material.alpha_cutoff))
+        !std::isfinite(material.transmission) || !std::isfinite(material.ior) || !std::isfinite(material.alpha_cutoff) ||
+        !std::isfinite(material.normal_scale))
       throw SceneError(detail::located(where, "material '" + material.name + "' has a non-finite parameter"));
   }
   for (const Texture& texture : scene.textures)

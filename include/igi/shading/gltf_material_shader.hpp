@@ -1,14 +1,17 @@
 #pragma once
 /// \file
-/// The default surface shader: glTF metallic-roughness materials (factors, base-colour and
-/// emissive textures with sRGB decode, read trilinearly from mip chains at the hit's footprint,
-/// alpha-mask cut-outs, transmission) mapped onto igi's few BRDF parameters.
+/// The default surface shader: glTF metallic-roughness materials (factors; base-colour and
+/// emissive textures with sRGB decode and linear metallic-roughness textures, read trilinearly
+/// from mip chains at the hit's footprint; alpha-mask cut-outs; transmission) mapped onto igi's
+/// few BRDF parameters.
 ///
 /// The mapping (per hit, with base = baseColorFactor x base-colour texture, linear):
 /// - albedo = base.rgb x (1 - metallic) x (1 - transmission): the Lambertian part;
 /// - specular = base.rgb x metallic: metals reflect in their own colour. glTF's 4% dielectric
 ///   Fresnel reflection is left out, so rough plastics and paint stay exactly Lambertian with
 ///   albedo = base colour (what the closed-box and Cornell tests compare against);
+/// - metallic and roughness are their factors times the metallic-roughness texture's blue and
+///   green channels (linear, read at the footprint as the base colour) where there is one;
 /// - roughness r gives the Phong exponent 2 / r^4 - 2 (the Blinn-Phong exponent matching a
 ///   Beckmann lobe of width alpha = r^2, Walter et al. 2007), at least 1; below
 ///   `mirror_roughness` the lobe is narrower than VPL lighting can show and the specular part
@@ -20,7 +23,10 @@
 ///   resolution whatever its footprint; BLEND is rendered opaque;
 /// - emission = emissiveFactor x strength x emissive texture, on front faces (both faces if
 ///   the material is double-sided), matching how the light sampler emits;
-/// - the normal is the interpolated shading normal (no normal maps).
+/// - the normal is the interpolated shading normal, tilted by the normal texture where there is
+///   one (normal_mapped). Its tangent frame comes from each triangle's uvs, not from TANGENT
+///   attributes: on a curved mesh the tilt's direction can step from triangle to triangle where
+///   per-vertex tangents would blend.
 /// Only TEXCOORD_0 reaches shading; a texture on TEXCOORD_1 is read with TEXCOORD_0.
 
 #include <algorithm>
@@ -40,6 +46,30 @@
 
 namespace igi {
 
+/// The shading normal at `point` tilted by the normal texture `chain` (glTF normalTexture, linear,
+/// read at the hit's footprint), its x and y scaled by `scale`. The tangent frame: x along dp/du
+/// made perpendicular to the normal, y = normal x tangent turned to point along -dp/dv (glTF's
+/// maps have +y up in the image, against v), so mirrored texture coordinates keep the relief. It is
+/// built on the front face's normal and the result turned with it on a back face, as glTF flips a
+/// double-sided material's normal there. Without a frame (no texture coordinates, or uvs that span
+/// no area) or for a texel that gives no direction, the shading normal stays.
+[[gnu::always_inline]] inline glm::vec3 normal_mapped(const TextureMips& chain, float scale, const SurfacePoint& point) {
+  const float side = point.front_face ? 1.0f : -1.0f;
+  const glm::vec3 normal = point.shading_normal * side;
+  glm::vec3 tangent = point.dpdu - normal * glm::dot(normal, point.dpdu);
+  const float tangent_length2 = glm::dot(tangent, tangent);
+  if (!(tangent_length2 > 0.0f) || !std::isfinite(tangent_length2)) return point.shading_normal;
+  tangent /= std::sqrt(tangent_length2);
+  glm::vec3 bitangent = glm::cross(normal, tangent);
+  if (glm::dot(bitangent, point.dpdv) > 0.0f) bitangent = -bitangent;
+  const glm::vec4 texel = sample_filtered(chain, point.uv, point.texture_footprint);
+  const glm::vec3 tilted = tangent * ((2.0f * texel.x - 1.0f) * scale) + bitangent * ((2.0f * texel.y - 1.0f) * scale) +
+                           normal * (2.0f * texel.z - 1.0f);
+  const float length2 = glm::dot(tilted, tilted);
+  if (!(length2 > 0.0f) || !std::isfinite(length2)) return point.shading_normal;
+  return tilted * (side / std::sqrt(length2));
+}
+
 /// Maps one hit on `material` to BRDF parameters (the mapping in this file's comment), its
 /// textures read from `mips` (one chain per Scene::textures entry) at the hit's footprint.
 // Always inlined into the shader's lane loop, with its texture lookups (see texture_sampling.hpp's mix_texels).
@@ -57,9 +87,16 @@ namespace igi {
       texture.a = sample_bilinear(chain.level(0), point.uv).a;
     base *= texture;
   }
-  const float metallic = std::clamp(material.metallic, 0.0f, 1.0f);
+  float metallic = material.metallic, roughness = material.roughness;
+  if (material.metallic_roughness_texture >= 0) {
+    const glm::vec4 texture =
+        sample_filtered(mips[std::size_t(material.metallic_roughness_texture)], point.uv, point.texture_footprint);
+    roughness *= texture.g;
+    metallic *= texture.b;
+  }
+  metallic = std::clamp(metallic, 0.0f, 1.0f);
+  roughness = std::clamp(roughness, 0.0f, 1.0f);
   const float transmission = std::clamp(material.transmission, 0.0f, 1.0f);
-  const float roughness = std::clamp(material.roughness, 0.0f, 1.0f);
   const glm::vec3 color = glm::clamp(glm::vec3(base), glm::vec3(0.0f), glm::vec3(1.0f));
 
   ScalarBrdfParameters p;
@@ -75,7 +112,9 @@ namespace igi {
   }
   p.transmission = transmission * (1.0f - metallic);
   p.ior = material.ior > 0.0f && std::isfinite(material.ior) ? material.ior : 1.5f;  // glTF's default ior
-  p.normal = point.shading_normal;
+  p.normal = material.normal_texture >= 0
+                 ? normal_mapped(mips[std::size_t(material.normal_texture)], material.normal_scale, point)
+                 : point.shading_normal;
   if (point.front_face || material.double_sided) {
     p.emission = material.emission;
     if (material.emissive_texture >= 0)
@@ -98,7 +137,7 @@ class GltfMaterialShader {
   explicit GltfMaterialShader(const Scene& scene, float mirror_roughness = default_mirror_roughness)
       : scene_(&scene), mirror_roughness_(mirror_roughness) {
     for (const Material& m : scene.materials) {
-      for (const int texture : {m.base_color_texture, m.emissive_texture})
+      for (const int texture : {m.base_color_texture, m.emissive_texture, m.metallic_roughness_texture, m.normal_texture})
         if (texture >= int(scene.textures.size()))
           throw std::invalid_argument("GltfMaterialShader: material '" + m.name + "' uses texture " +
                                       std::to_string(texture) + " but the scene has " +

@@ -23,6 +23,8 @@ struct SurfacePoint {
   glm::vec3 shading_normal{0.0f};    ///< Unit interpolated normal, in the geometric hemisphere.
   glm::vec3 wo{0.0f};                ///< Unit direction back towards the ray origin.
   glm::vec2 uv{0.0f};                ///< TEXCOORD_0.
+  glm::vec3 dpdu{0.0f};              ///< World-space derivative of the position along u (0 without texture coordinates).
+  glm::vec3 dpdv{0.0f};              ///< World-space derivative of the position along v.
   float texture_footprint = 0.0f;    ///< SurfaceHit::texture_footprint: the ray's footprint in texture coordinates (0: full resolution).
   float distance = 0.0f;             ///< Distance from the ray origin.
   int material = -1;                 ///< Index into Scene::materials, -1 for the default.
@@ -53,6 +55,8 @@ SurfacePoint surface_point(const SurfaceHit<W>& hit, int i) noexcept {
           .shading_normal = hit.shading_normal[i],
           .wo = hit.wo[i],
           .uv = {hit.u[i], hit.v[i]},
+          .dpdu = hit.dpdu[i],
+          .dpdv = hit.dpdv[i],
           .texture_footprint = hit.texture_footprint[i],
           .distance = hit.distance[i],
           .material = hit.material[i],

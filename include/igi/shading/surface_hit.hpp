@@ -17,6 +17,8 @@ struct SurfaceHit {
   vec3<W> shading_normal;    ///< Unit interpolated vertex normal, in the hemisphere of geometric_normal.
   vec3<W> wo;                ///< Unit direction from the hit back towards the ray origin.
   vfloat<W> u, v;            ///< Texture coordinates (TEXCOORD_0), 0 without them.
+  vec3<W> dpdu;              ///< World-space derivative of the position along u (normal maps' tangent); 0 without texture coordinates.
+  vec3<W> dpdv;              ///< World-space derivative of the position along v; 0 without texture coordinates.
   /// Width of the ray's footprint at the hit in texture coordinates: its cone's width there,
   /// spread over the surface (over sqrt of the cosine to wo: the same area as the slanted
   /// ellipse), times the triangle's texture coordinates per unit of length. 0 for a ray without
@@ -37,6 +39,8 @@ struct SurfaceHit {
     wo.assign(from.wo, mask);
     u.assign(from.u, mask);
     v.assign(from.v, mask);
+    dpdu.assign(from.dpdu, mask);
+    dpdv.assign(from.dpdv, mask);
     texture_footprint.assign(from.texture_footprint, mask);
     distance.assign(from.distance, mask);
     material.assign(from.material, mask);

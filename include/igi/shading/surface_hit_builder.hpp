@@ -115,7 +115,7 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
   // nearly always hits one instance, whose matrices are then broadcast instead of gathered.
   vec3<W> p0, p1, p2, interpolated_normal;
   vfloat<W> tex_u, tex_v;
-  vfloat<W> uv_area;  // twice the triangle's area in texture coordinates (only with a cone)
+  vfloat<W> du1, dv1, du2, dv2;  // the triangle's edges p1 - p0 and p2 - p0 in texture coordinates
   const int first_lane = [&] {
     for (int i = 0; i < W; ++i)
       if (active[i]) return i;
@@ -143,10 +143,11 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
       const glm::vec2 uv = b0 * mesh.uvs[triangle.x] + b1 * mesh.uvs[triangle.y] + b2 * mesh.uvs[triangle.z];
       tex_u.set(i, uv.x);
       tex_v.set(i, uv.y);
-      if (cone_spread > 0.0f) {
-        const glm::vec2 e1 = mesh.uvs[triangle.y] - mesh.uvs[triangle.x], e2 = mesh.uvs[triangle.z] - mesh.uvs[triangle.x];
-        uv_area.set(i, std::abs(e1.x * e2.y - e1.y * e2.x));
-      }
+      const glm::vec2 e1 = mesh.uvs[triangle.y] - mesh.uvs[triangle.x], e2 = mesh.uvs[triangle.z] - mesh.uvs[triangle.x];
+      du1.set(i, e1.x);
+      dv1.set(i, e1.y);
+      du2.set(i, e2.x);
+      dv2.set(i, e2.y);
     }
     hit.material.set(i, mesh.material);
     hit.mesh.set(i, std::int32_t(mesh_id));
@@ -195,7 +196,16 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
 
   hit.u = keep(tex_u, active);
   hit.v = keep(tex_v, active);
+  // The position's derivatives along u and v: p = p0 + a edge1 + b edge2 where (u, v) = uv0 +
+  // a e1 + b e2, solved for (a, b). A triangle whose uvs span no area (or none) has none: zero.
+  const vec3<W> edge1 = p1 - p0, edge2 = p2 - p0;
+  const vfloat<W> uv_determinant = du1 * dv2 - dv1 * du2;
+  const vmask<W> mapped = active & (abs(uv_determinant) > vfloat<W>(0.0f)) & isfinite(uv_determinant);
+  const vfloat<W> inverse_determinant = keep(vfloat<W>(1.0f) / select(mapped, uv_determinant, vfloat<W>(1.0f)), mapped);
+  hit.dpdu = keep((edge1 * dv2 - edge2 * dv1) * inverse_determinant, mapped);
+  hit.dpdv = keep((edge2 * du1 - edge1 * du2) * inverse_determinant, mapped);
   if (cone_spread > 0.0f) {
+    const vfloat<W> uv_area = abs(uv_determinant);  // twice the triangle's area in texture coordinates
     // The cone's width at the hit, over the surface: its cross-section's area grows by 1 / cos
     // on a slanted surface, so the side of the same area by 1 / sqrt(cos). Cosines below 1/64
     // (within a degree of grazing) count as 1/64: at most 8x the width, three mip levels, where

@@ -4,6 +4,7 @@
 /// parsing (`keep_encoded_image`); the ones materials use are decoded once, in parallel, with
 /// stb_image, and become scene textures as materials ask for them.
 
+#include <array>
 #include <cstddef>
 #include <limits>
 #include <optional>
@@ -51,7 +52,7 @@ class TextureTable {
   void decode_images() {
     decoded_.assign(model_.images.size(), std::nullopt);
     image_problem_.assign(model_.images.size(), std::string());
-    texture_of_image_.assign(model_.images.size(), -1);
+    for (std::vector<int>& textures : texture_of_image_) textures.assign(model_.images.size(), -1);
     const std::vector<int> images = used_images();
     tbb::parallel_for(std::size_t(0), images.size(), [&](std::size_t k) {
       const std::size_t i = std::size_t(images[k]);
@@ -88,28 +89,32 @@ class TextureTable {
       texture.width = width;
       texture.height = height;
       texture.texels.assign(texels, texels + std::size_t(width) * std::size_t(height) * rgba);
-      texture.srgb = true;  // only base colour and emissive textures are loaded; glTF stores both in sRGB
+      texture.srgb = true;  // as base colour and emissive textures are stored; scene_texture sets it per use
       stbi_image_free(texels);
       decoded_[i] = std::move(texture);
     });
   }
 
   /// Index in `textures` (the scene's) of the texture for a material's texture slot, added on first
-  /// use, or -1 with a warning if the image is unusable.
-  int scene_texture(int texture_index, const std::string& user, std::string_view slot, std::vector<Texture>& textures) {
+  /// use, or -1 with a warning if the image is unusable. `srgb`: whether the slot stores sRGB
+  /// (base colour, emissive) or linear values (metallic-roughness, normals); an image both kinds of slot
+  /// use becomes two scene textures, one per encoding.
+  int scene_texture(int texture_index, const std::string& user, std::string_view slot, bool srgb, std::vector<Texture>& textures) {
     const int image = image_of_texture(texture_index, user);
     if (image < 0) return -1;
     const std::size_t i = std::size_t(image);
     if (!decoded_[i]) {
-      warn(user + ": " + image_problem_[i] + "; the material keeps its " + std::string(slot) +
-           " factor and drops the texture");
+      warn(user + ": " + image_problem_[i] + "; the material drops the texture" +
+           (slot == "normal" ? std::string(" and keeps its normals") : "; its " + std::string(slot) + " factor stays"));
       return -1;
     }
-    if (texture_of_image_[i] < 0) {
-      texture_of_image_[i] = int(textures.size());
+    int& texture = texture_of_image_[srgb ? 1 : 0][i];
+    if (texture < 0) {
+      texture = int(textures.size());
       textures.push_back(*decoded_[i]);
+      textures.back().srgb = srgb;
     }
-    return texture_of_image_[i];
+    return texture;
   }
 
  private:
@@ -117,7 +122,7 @@ class TextureTable {
   const Diagnostics& diagnostics_;               ///< Where failures and warnings go.
   std::vector<std::optional<Texture>> decoded_;  ///< Per glTF image, when used by a material and decodable.
   std::vector<std::string> image_problem_;       ///< Per glTF image, why it has no texels.
-  std::vector<int> texture_of_image_;            ///< glTF image -> scene texture, or -1.
+  std::array<std::vector<int>, 2> texture_of_image_;  ///< Per encoding (0 linear, 1 sRGB): glTF image -> scene texture, or -1.
 
   [[noreturn]] void fail(const std::string& problem) const { diagnostics_.fail(problem); }
   void warn(const std::string& message) const { diagnostics_.warn(message); }
@@ -139,11 +144,12 @@ class TextureTable {
     return source;
   }
 
-  /// The glTF images base colour or emissive textures use.
+  /// The glTF images base colour, emissive, metallic-roughness or normal textures use.
   std::vector<int> used_images() const {
     std::vector<char> used(model_.images.size(), 0);
     for (const tinygltf::Material& material : model_.materials) {
-      for (const int texture : {material.pbrMetallicRoughness.baseColorTexture.index, material.emissiveTexture.index})
+      for (const int texture : {material.pbrMetallicRoughness.baseColorTexture.index, material.emissiveTexture.index,
+                                material.pbrMetallicRoughness.metallicRoughnessTexture.index, material.normalTexture.index})
         if (texture >= 0 && std::size_t(texture) < model_.textures.size()) {
           const int source = model_.textures[std::size_t(texture)].source;
           if (source >= 0 && std::size_t(source) < model_.images.size()) used[std::size_t(source)] = 1;

@@ -176,7 +176,8 @@ class Loader {
       material.name = source.name.empty() ? "material " + std::to_string(m) : source.name;
       const std::vector<double>& base = source.pbrMetallicRoughness.baseColorFactor;
       if (base.size() == 4) material.base_color = glm::vec4(float(base[0]), float(base[1]), float(base[2]), float(base[3]));
-      material.base_color_texture = textures_.scene_texture(source.pbrMetallicRoughness.baseColorTexture.index, user, "base colour", scene_.textures);
+      material.base_color_texture =
+          textures_.scene_texture(source.pbrMetallicRoughness.baseColorTexture.index, user, "base colour", true, scene_.textures);
       material.base_color_uv_set = source.pbrMetallicRoughness.baseColorTexture.texCoord;
       if (material.base_color_uv_set < 0 || material.base_color_uv_set > 1) {
         warn(user + ": base colour texture uses TEXCOORD_" + std::to_string(material.base_color_uv_set) +
@@ -185,12 +186,23 @@ class Loader {
       }
       material.metallic = float(source.pbrMetallicRoughness.metallicFactor);
       material.roughness = float(source.pbrMetallicRoughness.roughnessFactor);
+      const tinygltf::TextureInfo& metallic_roughness = source.pbrMetallicRoughness.metallicRoughnessTexture;
+      material.metallic_roughness_texture =
+          textures_.scene_texture(metallic_roughness.index, user, "metallic and roughness", false, scene_.textures);
+      if (material.metallic_roughness_texture >= 0 && metallic_roughness.texCoord != 0)
+        warn(user + ": metallic-roughness texture uses TEXCOORD_" + std::to_string(metallic_roughness.texCoord) +
+             "; igi samples metallic-roughness textures with set 0");
+      material.normal_texture = textures_.scene_texture(source.normalTexture.index, user, "normal", false, scene_.textures);
+      material.normal_scale = float(source.normalTexture.scale);
+      if (material.normal_texture >= 0 && source.normalTexture.texCoord != 0)
+        warn(user + ": normal texture uses TEXCOORD_" + std::to_string(source.normalTexture.texCoord) +
+             "; igi samples normal textures with set 0");
       if (source.emissiveFactor.size() == 3) {
         const float strength = float(extension_number(source.extensions, "KHR_materials_emissive_strength", "emissiveStrength", 1.0));
         material.emission = strength * glm::vec3(float(source.emissiveFactor[0]), float(source.emissiveFactor[1]),
                                                  float(source.emissiveFactor[2]));
       }
-      material.emissive_texture = textures_.scene_texture(source.emissiveTexture.index, user, "emissive", scene_.textures);
+      material.emissive_texture = textures_.scene_texture(source.emissiveTexture.index, user, "emissive", true, scene_.textures);
       if (source.emissiveTexture.index >= 0 && source.emissiveTexture.texCoord != 0)
         warn(user + ": emissive texture uses TEXCOORD_" + std::to_string(source.emissiveTexture.texCoord) +
              "; igi samples emissive textures with set 0");
