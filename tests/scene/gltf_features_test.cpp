@@ -285,7 +285,11 @@ TEST_CASE("glTF textures are decoded once, shared by materials, sRGB, top row fi
   });
   b.add_quad_node("quad");
   b.set_roots({0});
-  const igi::Scene scene = load_clean(b.write_gltf(dir, "textures"));
+  std::vector<std::string> warnings;
+  const igi::Scene scene = igi::load_gltf(b.write_gltf(dir, "textures"), &warnings);
+  // Shading reads every texture through TEXCOORD_0: the base colour's set 1 is named, not ignored silently.
+  REQUIRE(warnings.size() == 1);
+  CHECK_THAT(warnings[0], Catch::Contains("'base': base colour texture uses TEXCOORD_1"));
   REQUIRE(scene.textures.size() == 1);
   const igi::Texture& texture = scene.textures[0];
   CHECK(texture.width == 2);
@@ -371,6 +375,52 @@ TEST_CASE("glTF normal textures: linear, with their scale; other sets and lost i
   CHECK_THAT(all, Catch::Contains("'tiles': normal texture uses TEXCOORD_1"));
   CHECK_THAT(all, Catch::Contains("'stone'") && Catch::Contains("lost.png") &&
                       Catch::Contains("drops the texture and keeps its normals"));
+}
+
+TEST_CASE("glTF KHR_texture_transform: offset, rotation and scale per texture, required or not", "[scene][gltf]") {
+  const auto dir = scratch_dir("texture_transform");
+  const std::vector<std::uint8_t> texels{128, 128, 255, 255};
+  REQUIRE(stbi_write_png((dir / "one.png").string().c_str(), 1, 1, 4, texels.data(), 4) != 0);
+  GltfBuilder b;
+  b.doc["extensionsUsed"] = {"KHR_texture_transform"};
+  b.doc["extensionsRequired"] = {"KHR_texture_transform"};
+  b.doc["images"] = json::array({{{"uri", "one.png"}}});
+  b.doc["textures"] = json::array({{{"source", 0}}});
+  const json quarter_turn = {{"KHR_texture_transform", {{"offset", {0.5, 0.25}}, {"rotation", 1.5707963267948966}, {"scale", {2, 3}}}}};
+  b.doc["materials"] = json::array({
+      {{"name", "floor"},
+       {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"extensions", quarter_turn}}},
+                                 {"metallicRoughnessTexture", {{"index", 0}}}}},
+       {"normalTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {4, 4}}}}}}}},
+       {"emissiveTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 1}}}}}}}},
+      {{"name", "odd"},
+       {"pbrMetallicRoughness",
+        {{"baseColorTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", "far"}, {"rotation", "some"}}}}}}}}}},
+  });
+  b.add_quad_node("quad");
+  b.set_roots({0});
+  std::vector<std::string> warnings;
+  const igi::Scene scene = igi::load_gltf(b.write_gltf(dir, "transform"), &warnings);
+  std::string all;
+  for (const std::string& warning : warnings) all += warning + "\n";
+  INFO(all);
+  REQUIRE(scene.materials.size() == 2);
+  const igi::Material& floor = scene.materials[0];
+  // offset + rotation x scale: u' = 2 cos(r) u + 3 sin(r) v + 0.5, v' = -2 sin(r) u + 3 cos(r) v + 0.25.
+  CHECK(near(glm::vec3(floor.base_color_transform.apply({0.0f, 0.0f}), 0.0f), {0.5f, 0.25f, 0.0f}));
+  CHECK(near(glm::vec3(floor.base_color_transform.apply({1.0f, 0.0f}), 0.0f), {0.5f, -1.75f, 0.0f}));
+  CHECK(near(glm::vec3(floor.base_color_transform.apply({0.0f, 1.0f}), 0.0f), {3.5f, 0.25f, 0.0f}));
+  CHECK(floor.base_color_transform.footprint_scale() == Approx(std::sqrt(6.0f)));
+  // No extension: the identity.
+  CHECK(floor.metallic_roughness_transform.apply({0.3f, 0.7f}) == glm::vec2(0.3f, 0.7f));
+  CHECK(floor.normal_transform.apply({0.25f, 0.5f}) == glm::vec2(1.0f, 2.0f));
+  // The extension's texCoord replaces the texture's and is named like it.
+  CHECK_THAT(all, Catch::Contains("'floor': emissive texture uses TEXCOORD_1"));
+  // Fields that are not numbers are named and left at their defaults.
+  CHECK_THAT(all, Catch::Contains("'odd': the base colour texture's KHR_texture_transform offset is not two numbers"));
+  CHECK_THAT(all, Catch::Contains("'odd': the base colour texture's KHR_texture_transform rotation is not a number"));
+  CHECK(scene.materials[1].base_color_transform.apply({0.3f, 0.7f}) == glm::vec2(0.3f, 0.7f));
+  CHECK(all.find("ignores") == std::string::npos);  // the extension is known
 }
 
 TEST_CASE("glTF metallic-roughness texture problems are warnings that keep the factors", "[scene][gltf]") {

@@ -394,6 +394,84 @@ TEST_CASE("GltfMaterialShader: normal textures tilt the normal in the uv tangent
   CHECK_THROWS_WITH(GltfMaterialShader(broken), Catch::Contains("texture 5"));
 }
 
+TEST_CASE("GltfMaterialShader: each texture is read through its KHR_texture_transform, footprint, cut-outs and normal "
+          "frame included", "[shading][gltf]") {
+  Scene scene;
+  scene.textures.push_back(checker(true));
+  scene.textures.push_back(linear_texture_scene(4, 1, {128, 128, 255, 255, 218, 128, 218, 255, 128, 218, 218, 255, 128, 128, 0, 255})
+                               .textures[0]);
+  Mesh mesh;
+  mesh.material = 0;
+  scene.meshes.push_back(mesh);
+  const UvTransform transform = UvTransform::from({0.25f, -0.5f}, 0.7f, {2.0f, 0.5f});
+  Material transformed{.name = "transformed", .base_color_texture = 0, .metallic = 0.0f};
+  transformed.base_color_transform = transform;
+  transformed.alpha_mode = AlphaMode::mask;
+  transformed.normal_texture = 1;
+  transformed.normal_transform = transform;
+  scene.materials.push_back(transformed);
+  Material plain = transformed;  // the same textures through their own coordinates
+  plain.base_color_transform = UvTransform{};
+  plain.normal_transform = UvTransform{};
+  scene.materials.push_back(plain);
+  const GltfMaterialShader shader(scene);
+
+  // Lanes on the floor at assorted uvs and footprints; the same lanes on the plain material at
+  // the transformed uvs, footprints widened by the transform's area scale and the position's
+  // derivatives along the transformed coordinates must shade alike.
+  SurfaceHit<W> hit = floor_hits(0.1f);
+  hit.dpdu = vec3<W>(glm::vec3(2.0f, 0.0f, 0.0f));
+  hit.dpdv = vec3<W>(glm::vec3(0.0f, 0.0f, 3.0f));
+  SurfaceHit<W> expected = hit;
+  const glm::mat2 linear(transform.matrix[0], transform.matrix[1]);
+  const glm::mat2 inverse = glm::inverse(linear);
+  for (int i = 0; i < W; ++i) {
+    const glm::vec2 uv(0.13f * float(i) + 0.05f, 0.71f - 0.09f * float(i));
+    hit.u.set(i, uv.x);
+    hit.v.set(i, uv.y);
+    hit.texture_footprint.set(i, i < 4 ? 0.0f : 0.2f * float(i - 3));
+    hit.material.set(i, 0);
+    const glm::vec2 mapped = transform.apply(uv);
+    expected.u.set(i, mapped.x);
+    expected.v.set(i, mapped.y);
+    expected.texture_footprint.set(i, hit.texture_footprint[i] * std::sqrt(std::abs(glm::determinant(linear))));
+    expected.material.set(i, 1);
+    expected.dpdu.set(i, hit.dpdu[i] * inverse[0].x + hit.dpdv[i] * inverse[0].y);
+    expected.dpdv.set(i, hit.dpdu[i] * inverse[1].x + hit.dpdv[i] * inverse[1].y);
+  }
+  const vmask<W> all(true);
+  const BrdfParameters<W> p = shader.shade(hit, all);
+  const BrdfParameters<W> q = shader.shade(expected, all);
+  int cut_out = 0;
+  for (int i = 0; i < W; ++i) {
+    INFO("lane " << i);
+    CHECK(glm::length(p.albedo[i] - q.albedo[i]) < 1e-5f);  // float rounding of the transformed coordinates
+    CHECK(glm::length(p.normal[i] - q.normal[i]) < 1e-5f);
+    CHECK(p.opaque[i] == q.opaque[i]);
+    cut_out += p.opaque[i] ? 0 : 1;
+  }
+  CHECK(cut_out > 0);  // some lanes land on the checker's transparent texel, through the transform
+  CHECK(cut_out < W);
+
+  // opaque_at (shadow rays through cut-outs) reads the alpha through the transform too: a
+  // candidate on a triangle whose uvs are the lanes' gives the lanes' answer.
+  Scene cutout_scene = scene;
+  Mesh& triangle = cutout_scene.meshes[0];
+  triangle.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}};
+  triangle.uvs = {{0, 0}, {1, 0}, {0, 1}};
+  triangle.triangles = {{0, 1, 2}};
+  const GltfMaterialShader cutout_shader(cutout_scene);
+  for (int i = 0; i < 4; ++i) {  // footprint 0: the alpha at the point, as opaque_at reads it
+    const float u = hit.u[i], v = hit.v[i];
+    if (u < 0.0f || v < 0.0f || u + v > 1.0f) continue;  // outside the triangle
+    OcclusionCandidate candidate{};
+    candidate.u = u;
+    candidate.v = v;
+    candidate.mesh = 0;
+    CHECK(cutout_shader.opaque_at(candidate) == p.opaque[i]);
+  }
+}
+
 TEST_CASE("noise: bounded, zero on the lattice, continuous, seeded and width independent", "[shading][noise]") {
   CHECK(perlin_noise(glm::vec3(3.0f, -2.0f, 7.0f)) == 0.0f);
   double sum = 0.0, sum2 = 0.0;

@@ -4,6 +4,7 @@
 /// glTF primitives (one material each), placed by instances with 4x4 transforms; lights are
 /// glTF punctual lights plus the emissive triangles of the meshes (found by the lighting layer).
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -23,6 +24,24 @@ struct Texture {
   bool srgb = true;                  ///< True if texels are sRGB-encoded (base colour, emission), false if linear (metallic-roughness, normals).
 };
 
+/// A texture's glTF KHR_texture_transform: uv' = offset + rotation x scale x uv, as a 2 x 3
+/// matrix (identity by default, which is the texture's own coordinates).
+struct UvTransform {
+  glm::mat3x2 matrix{1.0f};  ///< Columns: the images of u and v, then the offset.
+
+  /// The extension's transform: scale, then rotate by `rotation` radians (u towards -v), then offset.
+  static UvTransform from(const glm::vec2& offset, float rotation, const glm::vec2& scale) noexcept {
+    const float c = std::cos(rotation), s = std::sin(rotation);
+    return {glm::mat3x2(glm::vec2(c * scale.x, -s * scale.x), glm::vec2(s * scale.y, c * scale.y), offset)};
+  }
+  /// `uv` transformed.
+  glm::vec2 apply(const glm::vec2& uv) const noexcept { return matrix * glm::vec3(uv, 1.0f); }
+  /// The factor by which it widens a footprint: the square root of its area scale.
+  float footprint_scale() const noexcept {
+    return std::sqrt(std::abs(matrix[0].x * matrix[1].y - matrix[0].y * matrix[1].x));
+  }
+};
+
 /// How a material's alpha is used (glTF `alphaMode`).
 enum class AlphaMode { opaque, mask, blend };
 
@@ -32,18 +51,22 @@ struct Material {
   glm::vec4 base_color{1.0f};                          ///< Linear RGBA factor.
   int base_color_texture = -1;                         ///< Index into Scene::textures, or -1.
   int base_color_uv_set = 0;                           ///< TEXCOORD_n used by that texture.
+  UvTransform base_color_transform;                    ///< That texture's KHR_texture_transform (also the alpha cut-outs').
   float metallic = 1.0f;                               ///< glTF default 1.
   float roughness = 1.0f;                              ///< glTF default 1.
   /// glTF metallicRoughnessTexture: index into Scene::textures (linear, not sRGB), or -1. Its
   /// green channel scales `roughness`, its blue channel `metallic`.
   int metallic_roughness_texture = -1;
+  UvTransform metallic_roughness_transform;  ///< That texture's KHR_texture_transform.
   /// glTF normalTexture: index into Scene::textures (linear), or -1. Tangent-space normals: x
   /// along increasing u, y along decreasing v (the image's up), z along the shading normal.
   int normal_texture = -1;
   /// glTF normalTexture.scale: scales the map's x and y (0 leaves the normal as it is).
   float normal_scale = 1.0f;
+  UvTransform normal_transform;  ///< That texture's KHR_texture_transform (its tangent frame follows it).
   glm::vec3 emission{0.0f};                            ///< Emitted radiance: factor x KHR_materials_emissive_strength.
   int emissive_texture = -1;                           ///< Index into Scene::textures, or -1.
+  UvTransform emissive_transform;                      ///< That texture's KHR_texture_transform.
   float transmission = 0.0f;                           ///< KHR_materials_transmission factor.
   float ior = 1.5f;                                    ///< KHR_materials_ior (glTF default 1.5).
   AlphaMode alpha_mode = AlphaMode::opaque;            ///< glTF alphaMode.

@@ -188,6 +188,11 @@ inline void validate_scene(Scene& scene, std::vector<std::string>* warnings = nu
         !std::isfinite(material.transmission) || !std::isfinite(material.ior) || !std::isfinite(material.alpha_cutoff) ||
         !std::isfinite(material.normal_scale))
       throw SceneError(detail::located(where, "material '" + material.name + "' has a non-finite parameter"));
+    for (const UvTransform* transform : {&material.base_color_transform, &material.metallic_roughness_transform,
+                                         &material.normal_transform, &material.emissive_transform})
+      for (int column = 0; column < 3; ++column)
+        if (!std::isfinite(transform->matrix[column].x) || !std::isfinite(transform->matrix[column].y))
+          throw SceneError(detail::located(where, "material '" + material.name + "' has a non-finite texture transform"));
   }
   for (const Texture& texture : scene.textures)
     if (texture.width <= 0 || texture.height <= 0 ||

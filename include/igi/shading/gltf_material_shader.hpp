@@ -27,7 +27,8 @@
 ///   one (normal_mapped). Its tangent frame comes from each triangle's uvs, not from TANGENT
 ///   attributes: on a curved mesh the tilt's direction can step from triangle to triangle where
 ///   per-vertex tangents would blend.
-/// Only TEXCOORD_0 reaches shading; a texture on TEXCOORD_1 is read with TEXCOORD_0.
+/// Each texture is read through its KHR_texture_transform (identity without one). Only TEXCOORD_0
+/// reaches shading; a texture on another set is read with TEXCOORD_0 (the loader warns).
 
 #include <algorithm>
 #include <memory>
@@ -46,23 +47,38 @@
 
 namespace igi {
 
+/// `chain` read at `point`'s texture coordinates as `transform` maps them (KHR_texture_transform),
+/// at the hit's footprint widened alike.
+[[gnu::always_inline]] inline glm::vec4 sample_transformed(const TextureMips& chain, const UvTransform& transform,
+                                                           const SurfacePoint& point) {
+  return sample_filtered(chain, transform.apply(point.uv), point.texture_footprint * transform.footprint_scale());
+}
+
 /// The shading normal at `point` tilted by the normal texture `chain` (glTF normalTexture, linear,
-/// read at the hit's footprint), its x and y scaled by `scale`. The tangent frame: x along dp/du
-/// made perpendicular to the normal, y = normal x tangent turned to point along -dp/dv (glTF's
+/// read through `transform` at the hit's footprint), its x and y scaled by `scale`. The tangent
+/// frame: x along dp/du' (u' the transformed coordinate) made perpendicular to the normal, y = normal x tangent turned to point along -dp/dv (glTF's
 /// maps have +y up in the image, against v), so mirrored texture coordinates keep the relief. It is
 /// built on the front face's normal and the result turned with it on a back face, as glTF flips a
 /// double-sided material's normal there. Without a frame (no texture coordinates, or uvs that span
 /// no area) or for a texel that gives no direction, the shading normal stays.
-[[gnu::always_inline]] inline glm::vec3 normal_mapped(const TextureMips& chain, float scale, const SurfacePoint& point) {
+[[gnu::always_inline]] inline glm::vec3 normal_mapped(const TextureMips& chain, float scale, const UvTransform& transform,
+                                                      const SurfacePoint& point) {
   const float side = point.front_face ? 1.0f : -1.0f;
   const glm::vec3 normal = point.shading_normal * side;
-  glm::vec3 tangent = point.dpdu - normal * glm::dot(normal, point.dpdu);
+  // (dp/du', dp/dv') = (dp/du, dp/dv) A^-1 for the transform's linear part A.
+  const glm::mat2 linear(transform.matrix[0], transform.matrix[1]);
+  const float determinant = glm::determinant(linear);
+  if (!(determinant != 0.0f) || !std::isfinite(determinant)) return point.shading_normal;
+  const glm::mat2 inverse = glm::inverse(linear);
+  const glm::vec3 dpdu = point.dpdu * inverse[0].x + point.dpdv * inverse[0].y;
+  const glm::vec3 dpdv = point.dpdu * inverse[1].x + point.dpdv * inverse[1].y;
+  glm::vec3 tangent = dpdu - normal * glm::dot(normal, dpdu);
   const float tangent_length2 = glm::dot(tangent, tangent);
   if (!(tangent_length2 > 0.0f) || !std::isfinite(tangent_length2)) return point.shading_normal;
   tangent /= std::sqrt(tangent_length2);
   glm::vec3 bitangent = glm::cross(normal, tangent);
-  if (glm::dot(bitangent, point.dpdv) > 0.0f) bitangent = -bitangent;
-  const glm::vec4 texel = sample_filtered(chain, point.uv, point.texture_footprint);
+  if (glm::dot(bitangent, dpdv) > 0.0f) bitangent = -bitangent;
+  const glm::vec4 texel = sample_transformed(chain, transform, point);
   const glm::vec3 tilted = tangent * ((2.0f * texel.x - 1.0f) * scale) + bitangent * ((2.0f * texel.y - 1.0f) * scale) +
                            normal * (2.0f * texel.z - 1.0f);
   const float length2 = glm::dot(tilted, tilted);
@@ -80,17 +96,17 @@ namespace igi {
   glm::vec4 base = material.base_color;
   if (material.base_color_texture >= 0) {
     const TextureMips& chain = mips[std::size_t(material.base_color_texture)];
-    glm::vec4 texture = sample_filtered(chain, point.uv, point.texture_footprint);
+    glm::vec4 texture = sample_transformed(chain, material.base_color_transform, point);
     // Cut-outs test the alpha at the ray's point: a filtered alpha would turn distant foliage
     // into solid sheets or nothing by its mean coverage, where point tests keep it on average.
     if (material.alpha_mode == AlphaMode::mask && point.texture_footprint > 0.0f)
-      texture.a = sample_bilinear(chain.level(0), point.uv).a;
+      texture.a = sample_bilinear(chain.level(0), material.base_color_transform.apply(point.uv)).a;
     base *= texture;
   }
   float metallic = material.metallic, roughness = material.roughness;
   if (material.metallic_roughness_texture >= 0) {
     const glm::vec4 texture =
-        sample_filtered(mips[std::size_t(material.metallic_roughness_texture)], point.uv, point.texture_footprint);
+        sample_transformed(mips[std::size_t(material.metallic_roughness_texture)], material.metallic_roughness_transform, point);
     roughness *= texture.g;
     metallic *= texture.b;
   }
@@ -113,12 +129,12 @@ namespace igi {
   p.transmission = transmission * (1.0f - metallic);
   p.ior = material.ior > 0.0f && std::isfinite(material.ior) ? material.ior : 1.5f;  // glTF's default ior
   p.normal = material.normal_texture >= 0
-                 ? normal_mapped(mips[std::size_t(material.normal_texture)], material.normal_scale, point)
+                 ? normal_mapped(mips[std::size_t(material.normal_texture)], material.normal_scale, material.normal_transform, point)
                  : point.shading_normal;
   if (point.front_face || material.double_sided) {
     p.emission = material.emission;
     if (material.emissive_texture >= 0)
-      p.emission *= glm::vec3(sample_filtered(mips[std::size_t(material.emissive_texture)], point.uv, point.texture_footprint));
+      p.emission *= glm::vec3(sample_transformed(mips[std::size_t(material.emissive_texture)], material.emissive_transform, point));
   }
   p.opaque = material.alpha_mode != AlphaMode::mask || base.a >= material.alpha_cutoff;
   return p;
@@ -188,7 +204,7 @@ class GltfMaterialShader {
         const float b1 = candidate.u, b2 = candidate.v, b0 = 1.0f - b1 - b2;
         uv = b0 * mesh.uvs[triangle.x] + b1 * mesh.uvs[triangle.y] + b2 * mesh.uvs[triangle.z];
       }
-      alpha *= sample_bilinear((*mips_)[std::size_t(material.base_color_texture)].level(0), uv).a;
+      alpha *= sample_bilinear((*mips_)[std::size_t(material.base_color_texture)].level(0), material.base_color_transform.apply(uv)).a;
     }
     return alpha >= material.alpha_cutoff;
   }

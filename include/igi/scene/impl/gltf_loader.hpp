@@ -46,7 +46,7 @@ namespace gltf_detail {
 inline const std::set<std::string, std::less<>>& supported_extensions() {
   static const std::set<std::string, std::less<>> names{
       "KHR_lights_punctual",      "KHR_materials_emissive_strength", "KHR_materials_transmission",
-      "KHR_materials_ior",        "KHR_mesh_quantization"};
+      "KHR_materials_ior",        "KHR_mesh_quantization",           "KHR_texture_transform"};
   return names;
 }
 
@@ -167,6 +167,42 @@ class Loader {
     return value.IsNumber() ? value.GetNumberAsDouble() : fallback;
   }
 
+  /// The KHR_texture_transform of the texture in `slot` of `user`, whose texture info carries
+  /// `extensions` (identity without one), and the uv set it reads: `uv_set`, or the extension's
+  /// texCoord. Fields that are not numbers are named in a warning and left at their defaults.
+  UvTransform texture_transform(const tinygltf::ExtensionMap& extensions, const std::string& user, const std::string& slot,
+                                int& uv_set) const {
+    const auto found = extensions.find("KHR_texture_transform");
+    if (found == extensions.end() || !found->second.IsObject()) return {};
+    const tinygltf::Value& transform = found->second;
+    const auto pair = [&](const char* field, glm::vec2 fallback) {
+      if (!transform.Has(field)) return fallback;
+      const tinygltf::Value& value = transform.Get(field);
+      if (!value.IsArray() || value.ArrayLen() != 2 || !value.Get(0).IsNumber() || !value.Get(1).IsNumber()) {
+        warn(user + ": the " + slot + " texture's KHR_texture_transform " + field + " is not two numbers; left at its default");
+        return fallback;
+      }
+      return glm::vec2(float(value.Get(0).GetNumberAsDouble()), float(value.Get(1).GetNumberAsDouble()));
+    };
+    const glm::vec2 offset = pair("offset", glm::vec2(0.0f)), scale = pair("scale", glm::vec2(1.0f));
+    float rotation = 0.0f;
+    if (transform.Has("rotation")) {
+      if (transform.Get("rotation").IsNumber())
+        rotation = float(transform.Get("rotation").GetNumberAsDouble());
+      else
+        warn(user + ": the " + slot + " texture's KHR_texture_transform rotation is not a number; left at 0");
+    }
+    if (transform.Has("texCoord") && transform.Get("texCoord").IsInt()) uv_set = transform.Get("texCoord").GetNumberAsInt();
+    return UvTransform::from(offset, rotation, scale);
+  }
+
+  /// Warns when the texture in `slot` of `user` reads another uv set than TEXCOORD_0, the one shading reads.
+  void warn_uv_set(int texture, int uv_set, const std::string& user, const std::string& slot) const {
+    if (texture >= 0 && uv_set != 0)
+      warn(user + ": " + slot + " texture uses TEXCOORD_" + std::to_string(uv_set) + "; igi samples " + slot +
+           " textures with set 0");
+  }
+
   /// Converts every glTF material (indices are kept, so primitives keep theirs).
   void convert_materials() {
     for (std::size_t m = 0; m < model_.materials.size(); ++m) {
@@ -178,34 +214,33 @@ class Loader {
       if (base.size() == 4) material.base_color = glm::vec4(float(base[0]), float(base[1]), float(base[2]), float(base[3]));
       material.base_color_texture =
           textures_.scene_texture(source.pbrMetallicRoughness.baseColorTexture.index, user, "base colour", true, scene_.textures);
-      material.base_color_uv_set = source.pbrMetallicRoughness.baseColorTexture.texCoord;
-      if (material.base_color_uv_set < 0 || material.base_color_uv_set > 1) {
-        warn(user + ": base colour texture uses TEXCOORD_" + std::to_string(material.base_color_uv_set) +
-             "; igi reads sets 0 and 1 and uses set 0");
-        material.base_color_uv_set = 0;
-      }
+      const tinygltf::TextureInfo& base_texture = source.pbrMetallicRoughness.baseColorTexture;
+      material.base_color_uv_set = base_texture.texCoord;
+      material.base_color_transform = texture_transform(base_texture.extensions, user, "base colour", material.base_color_uv_set);
+      warn_uv_set(material.base_color_texture, material.base_color_uv_set, user, "base colour");
+      if (material.base_color_uv_set < 0 || material.base_color_uv_set > 1) material.base_color_uv_set = 0;
       material.metallic = float(source.pbrMetallicRoughness.metallicFactor);
       material.roughness = float(source.pbrMetallicRoughness.roughnessFactor);
       const tinygltf::TextureInfo& metallic_roughness = source.pbrMetallicRoughness.metallicRoughnessTexture;
       material.metallic_roughness_texture =
           textures_.scene_texture(metallic_roughness.index, user, "metallic and roughness", false, scene_.textures);
-      if (material.metallic_roughness_texture >= 0 && metallic_roughness.texCoord != 0)
-        warn(user + ": metallic-roughness texture uses TEXCOORD_" + std::to_string(metallic_roughness.texCoord) +
-             "; igi samples metallic-roughness textures with set 0");
+      int uv_set = metallic_roughness.texCoord;
+      material.metallic_roughness_transform = texture_transform(metallic_roughness.extensions, user, "metallic-roughness", uv_set);
+      warn_uv_set(material.metallic_roughness_texture, uv_set, user, "metallic-roughness");
       material.normal_texture = textures_.scene_texture(source.normalTexture.index, user, "normal", false, scene_.textures);
       material.normal_scale = float(source.normalTexture.scale);
-      if (material.normal_texture >= 0 && source.normalTexture.texCoord != 0)
-        warn(user + ": normal texture uses TEXCOORD_" + std::to_string(source.normalTexture.texCoord) +
-             "; igi samples normal textures with set 0");
+      uv_set = source.normalTexture.texCoord;
+      material.normal_transform = texture_transform(source.normalTexture.extensions, user, "normal", uv_set);
+      warn_uv_set(material.normal_texture, uv_set, user, "normal");
       if (source.emissiveFactor.size() == 3) {
         const float strength = float(extension_number(source.extensions, "KHR_materials_emissive_strength", "emissiveStrength", 1.0));
         material.emission = strength * glm::vec3(float(source.emissiveFactor[0]), float(source.emissiveFactor[1]),
                                                  float(source.emissiveFactor[2]));
       }
       material.emissive_texture = textures_.scene_texture(source.emissiveTexture.index, user, "emissive", true, scene_.textures);
-      if (source.emissiveTexture.index >= 0 && source.emissiveTexture.texCoord != 0)
-        warn(user + ": emissive texture uses TEXCOORD_" + std::to_string(source.emissiveTexture.texCoord) +
-             "; igi samples emissive textures with set 0");
+      uv_set = source.emissiveTexture.texCoord;
+      material.emissive_transform = texture_transform(source.emissiveTexture.extensions, user, "emissive", uv_set);
+      warn_uv_set(material.emissive_texture, uv_set, user, "emissive");
       material.transmission = float(extension_number(source.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
       material.ior = float(extension_number(source.extensions, "KHR_materials_ior", "ior", 1.5));  // glTF's default IOR
       if (source.alphaMode == "MASK") {
