@@ -275,25 +275,19 @@ TEST_CASE("cut-outs: a frame's floor is sunlit through the stencil's transparent
   const Frame saarcor = render_once<SaarcorBackend>(scene, settings);
   // Each pixel's floor point, from its camera ray: sunlit where x < 0 (the transparent half),
   // black where x > 0, a margin of 0.2 left out around the cut-out's edges.
-  const PinholeProjection projection(scene.cameras.front(), settings.width, settings.height);
   int sunlit = 0, shadowed = 0, as_open = 0, black = 0;
-  for (int y = 0; y < settings.height; ++y)
-    for (int x = 0; x < settings.width; ++x) {
-      const glm::vec3 direction = projection.direction(float(x) + 0.5f, float(y) + 0.5f);
-      if (!(direction.y < 0.0f)) continue;
-      const glm::vec3 floor = projection.origin() - direction * (projection.origin().y / direction.y);
-      if (std::abs(floor.x) < 0.2f || std::abs(floor.x) > 1.8f || std::abs(floor.z) > 1.8f) continue;
-      const std::size_t i = std::size_t(y) * std::size_t(settings.width) + std::size_t(x);
-      const float open_light = unshaded.hdr.pixels[i].g, light = embree.hdr.pixels[i].g;
-      REQUIRE(open_light > 0.0f);
-      if (floor.x < 0.0f) {
-        ++sunlit;
-        as_open += light == Approx(open_light).epsilon(1e-4) ? 1 : 0;
-      } else {
-        ++shadowed;
-        black += light == 0.0f ? 1 : 0;
-      }
+  for_each_floor_pixel(scene.cameras.front(), settings, [&](std::size_t i, const glm::vec3& floor) {
+    if (std::abs(floor.x) < 0.2f || std::abs(floor.x) > 1.8f || std::abs(floor.z) > 1.8f) return;
+    const float open_light = unshaded.hdr.pixels[i].g, light = embree.hdr.pixels[i].g;
+    REQUIRE(open_light > 0.0f);
+    if (floor.x < 0.0f) {
+      ++sunlit;
+      as_open += light == Approx(open_light).epsilon(1e-4) ? 1 : 0;
+    } else {
+      ++shadowed;
+      black += light == 0.0f ? 1 : 0;
     }
+  });
   INFO(as_open << " of " << sunlit << " pixels under the transparent half as with no stencil, " << black << " of "
                << shadowed << " under the opaque half black");
   CHECK(sunlit > 100);

@@ -72,28 +72,22 @@ TEST_CASE("normal maps: a floor tilted towards the sun and away from it takes th
   const float flat_cosine = towards_sun.y;
   const float left_ratio = glm::dot(floor_normal(191.0f), towards_sun) / flat_cosine;   // 1.37
   const float right_ratio = glm::dot(floor_normal(64.0f), towards_sun) / flat_cosine;   // 0.37
-  const PinholeProjection projection(flat.cameras.front(), settings.width, settings.height);
   int left = 0, right = 0, left_match = 0, right_match = 0;
-  for (int y = 0; y < settings.height; ++y)
-    for (int x = 0; x < settings.width; ++x) {
-      const glm::vec3 direction = projection.direction(float(x) + 0.5f, float(y) + 0.5f);
-      if (!(direction.y < 0.0f)) continue;
-      const glm::vec3 floor = projection.origin() - direction * (projection.origin().y / direction.y);
-      // Away from the halves' seam (x = 0) and from the floor's edges, where bilinear lookups
-      // blend the two halves (the texture repeats): within a texel (6 / 16 = 0.375) of them.
-      if (std::abs(floor.x) < 0.4f || std::abs(floor.x) > 2.6f || std::abs(floor.z) > 2.9f) continue;
-      const std::size_t i = std::size_t(y) * std::size_t(settings.width) + std::size_t(x);
-      const float flat_light = flat_frame.hdr.pixels[i].g, light = bumpy_frame.hdr.pixels[i].g;
-      REQUIRE(flat_light > 0.0f);
-      // 1e-4: float rounding of the cosines and the composition, far below the 8-bit texels' steps.
-      if (floor.x < 0.0f) {
-        ++left;
-        left_match += light == Approx(flat_light * left_ratio).epsilon(1e-4) ? 1 : 0;
-      } else {
-        ++right;
-        right_match += light == Approx(flat_light * right_ratio).epsilon(1e-4) ? 1 : 0;
-      }
+  for_each_floor_pixel(flat.cameras.front(), settings, [&](std::size_t i, const glm::vec3& floor) {
+    // Away from the halves' seam (x = 0) and from the floor's edges, where bilinear lookups
+    // blend the two halves (the texture repeats): within a texel (6 / 16 = 0.375) of them.
+    if (std::abs(floor.x) < 0.4f || std::abs(floor.x) > 2.6f || std::abs(floor.z) > 2.9f) return;
+    const float flat_light = flat_frame.hdr.pixels[i].g, light = bumpy_frame.hdr.pixels[i].g;
+    REQUIRE(flat_light > 0.0f);
+    // 1e-4: float rounding of the cosines and the composition, far below the 8-bit texels' steps.
+    if (floor.x < 0.0f) {
+      ++left;
+      left_match += light == Approx(flat_light * left_ratio).epsilon(1e-4) ? 1 : 0;
+    } else {
+      ++right;
+      right_match += light == Approx(flat_light * right_ratio).epsilon(1e-4) ? 1 : 0;
     }
+  });
   INFO(left_match << " of " << left << " pixels on the half tilted towards the sun, " << right_match << " of " << right
                   << " on the half tilted away, at the tilted normals' light");
   CHECK(left > 100);

@@ -59,6 +59,20 @@ inline std::size_t differing_pixels(const Frame& reference, const Frame& other, 
   return count;
 }
 
+/// Calls `visit(i, floor)` for each pixel of a `settings`-sized frame seen by `camera` whose ray
+/// through the pixel's centre hits the plane y = 0 below it: `i` the pixel's index, `floor` the hit.
+template <class Visit>
+void for_each_floor_pixel(const Camera& camera, const RenderSettings& settings, Visit&& visit) {
+  const PinholeProjection projection(camera, settings.width, settings.height);
+  for (int y = 0; y < settings.height; ++y)
+    for (int x = 0; x < settings.width; ++x) {
+      const glm::vec3 direction = projection.direction(float(x) + 0.5f, float(y) + 0.5f);
+      if (!(direction.y < 0.0f)) continue;
+      visit(std::size_t(y) * std::size_t(settings.width) + std::size_t(x),
+            projection.origin() - direction * (projection.origin().y / direction.y));
+    }
+}
+
 /// True if every channel of every pixel is finite.
 inline bool all_finite(const Frame& frame) {
   for (const glm::vec3& p : frame.hdr.pixels)

@@ -45,6 +45,14 @@ igi::Scene load_clean(const std::filesystem::path& file) {
   return scene;
 }
 
+/// Loads `file`, its warnings one per line into `warnings`.
+igi::Scene load_with_warnings(const std::filesystem::path& file, std::string& warnings) {
+  std::vector<std::string> lines;
+  igi::Scene scene = igi::load_gltf(file, &lines);
+  for (const std::string& line : lines) warnings += line + "\n";
+  return scene;
+}
+
 /// Geometric unit normal of triangle `t` of `mesh`.
 glm::vec3 face_normal(const igi::Mesh& mesh, std::size_t t) {
   const glm::uvec3 tri = mesh.triangles[t];
@@ -358,10 +366,8 @@ TEST_CASE("glTF normal textures: linear, with their scale; other sets and lost i
   });
   b.add_quad_node("quad");
   b.set_roots({0});
-  std::vector<std::string> warnings;
-  const igi::Scene scene = igi::load_gltf(b.write_gltf(dir, "normals"), &warnings);
   std::string all;
-  for (const std::string& warning : warnings) all += warning + "\n";
+  const igi::Scene scene = load_with_warnings(b.write_gltf(dir, "normals"), all);
   INFO(all);
   REQUIRE(scene.materials.size() == 4);
   const int bumps = scene.materials[0].normal_texture;
@@ -399,10 +405,8 @@ TEST_CASE("glTF KHR_texture_transform: offset, rotation and scale per texture, r
   });
   b.add_quad_node("quad");
   b.set_roots({0});
-  std::vector<std::string> warnings;
-  const igi::Scene scene = igi::load_gltf(b.write_gltf(dir, "transform"), &warnings);
   std::string all;
-  for (const std::string& warning : warnings) all += warning + "\n";
+  const igi::Scene scene = load_with_warnings(b.write_gltf(dir, "transform"), all);
   INFO(all);
   REQUIRE(scene.materials.size() == 2);
   const igi::Material& floor = scene.materials[0];
@@ -436,10 +440,8 @@ TEST_CASE("glTF metallic-roughness texture problems are warnings that keep the f
   });
   b.add_quad_node("quad");
   b.set_roots({0});
-  std::vector<std::string> warnings;
-  const igi::Scene scene = igi::load_gltf(b.write_gltf(dir, "problems"), &warnings);
   std::string all;
-  for (const std::string& warning : warnings) all += warning + "\n";
+  const igi::Scene scene = load_with_warnings(b.write_gltf(dir, "problems"), all);
   INFO(all);
   CHECK_THAT(all, Catch::Contains("'second set': metallic-roughness texture uses TEXCOORD_1"));
   CHECK_THAT(all, Catch::Contains("'lost'") && Catch::Contains("missing.png") &&
