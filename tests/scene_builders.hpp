@@ -28,13 +28,14 @@ inline Camera look_at(const glm::vec3& eye, const glm::vec3& target, float yfov 
 /// (from the free space between the blocks): the view where the 1/d^2 clamp removes most light.
 inline Camera cornell_corner_camera() { return look_at({0.15f, 0.3f, 0.3f}, {0.0f, 0.0f, 0.5592f}, 1.2f); }
 
-/// Adds a diffuse material (metallic 0, roughness 1) of `albedo` emitting `emission`; returns its index.
+/// Adds a Lambertian material (metallic 0, roughness 1, specular 0) of `albedo` emitting `emission`; returns its index.
 inline int add_material(Scene& scene, const glm::vec3& albedo, const glm::vec3& emission = glm::vec3(0.0f)) {
   Material m;
   m.name = "m" + std::to_string(scene.materials.size());
   m.base_color = glm::vec4(albedo, 1.0f);
   m.metallic = 0.0f;
   m.roughness = 1.0f;
+  m.specular = 0.0f;
   m.emission = emission;
   scene.materials.push_back(m);
   return int(scene.materials.size()) - 1;

@@ -75,7 +75,7 @@ inline igi::Scene procedural_room() {
   igi::Scene scene;
   scene.name = "procedural room";
   const auto diffuse = [](const char* name, glm::vec3 albedo) {
-    return igi::Material{.name = name, .base_color = glm::vec4(albedo, 1.0f), .metallic = 0.0f, .roughness = 1.0f};
+    return igi::Material{.name = name, .base_color = glm::vec4(albedo, 1.0f), .metallic = 0.0f, .roughness = 1.0f, .specular = 0.0f};
   };
   scene.materials = {
       diffuse("plain wall", {0.75f, 0.74f, 0.70f}),

@@ -94,6 +94,10 @@ TEST_CASE("Built-in Cornell box agrees with cornell_box.gltf (shared scene corne
     CHECK(a.metallic == b.metallic);
     CHECK(a.roughness == b.roughness);
     CHECK(a.double_sided == b.double_sided);
+    // The one intended difference: the built-in box's measured paints are Lambertian, while the
+    // file, without KHR_materials_specular, has glTF's default 4% specular layer.
+    CHECK(a.specular == 0.0f);
+    CHECK(b.specular == 1.0f);
   }
   // Camera: a 180 degree turn and a translation, exact in float up to the quaternion's rounding.
   REQUIRE(loaded.cameras.size() == 1);

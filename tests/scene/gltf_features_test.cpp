@@ -491,6 +491,61 @@ TEST_CASE("glTF materials: factors, emissive strength, transmission, ior, alpha 
   CHECK(defaults.alpha_mode == igi::AlphaMode::blend);
   CHECK_FALSE(defaults.double_sided);
   CHECK(defaults.base_color_texture == -1);
+  CHECK(defaults.specular == 1.0f);  // glTF's 4% dielectric layer
+  CHECK(defaults.specular_color == glm::vec3(1.0f));
+  CHECK(defaults.specular_texture == -1);
+  CHECK(defaults.specular_color_texture == -1);
+}
+
+TEST_CASE("glTF KHR_materials_specular: factors, textures (alpha linear, colour sRGB) with their transforms; bad "
+          "fields warn", "[scene][gltf][specular]") {
+  const auto dir = scratch_dir("materials_specular");
+  const std::vector<std::uint8_t> texels{255, 188, 64, 128};
+  REQUIRE(stbi_write_png((dir / "tint.png").string().c_str(), 1, 1, 4, texels.data(), 4) != 0);
+  GltfBuilder b;
+  b.doc["extensionsUsed"] = {"KHR_materials_specular", "KHR_texture_transform"};
+  b.doc["extensionsRequired"] = {"KHR_materials_specular"};
+  b.doc["images"] = json::array({{{"uri", "tint.png"}}, {{"uri", "missing.png"}}});
+  b.doc["textures"] = json::array({{{"source", 0}}, {{"source", 1}}});
+  b.doc["materials"] = json::array({
+      {{"name", "varnish"},
+       {"extensions",
+        {{"KHR_materials_specular",
+          {{"specularFactor", 0.5},
+           {"specularColorFactor", {1.0, 0.5, 0.25}},
+           {"specularTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {2.0, 4.0}}}}}}}},
+           {"specularColorTexture", {{"index", 0}, {"texCoord", 1}}}}}}}},
+      {{"name", "odd"},
+       {"extensions",
+        {{"KHR_materials_specular", {{"specularColorFactor", {1.0, 0.5}}, {"specularTexture", {{"index", 1}}}}}}}},
+  });
+  b.add_quad_node("quad");
+  b.set_roots({0});
+  std::string all;
+  const igi::Scene scene = load_with_warnings(b.write_gltf(dir, "specular"), all);
+  INFO(all);
+  REQUIRE(scene.materials.size() == 2);
+  const igi::Material& varnish = scene.materials[0];
+  CHECK(varnish.specular == 0.5f);
+  CHECK(varnish.specular_color == glm::vec3(1.0f, 0.5f, 0.25f));
+  // One image, two encodings: the specular weight is linear, the specular colour sRGB.
+  REQUIRE(varnish.specular_texture >= 0);
+  REQUIRE(varnish.specular_color_texture >= 0);
+  CHECK(varnish.specular_texture != varnish.specular_color_texture);
+  CHECK_FALSE(scene.textures[std::size_t(varnish.specular_texture)].srgb);
+  CHECK(scene.textures[std::size_t(varnish.specular_color_texture)].srgb);
+  CHECK(scene.textures[std::size_t(varnish.specular_texture)].texels == texels);
+  CHECK(varnish.specular_transform.apply({0.25f, 0.5f}) == glm::vec2(0.5f, 2.0f));
+  CHECK(varnish.specular_color_transform.apply({0.25f, 0.5f}) == glm::vec2(0.25f, 0.5f));
+  CHECK_THAT(all, Catch::Contains("'varnish': specular colour texture uses TEXCOORD_1"));
+  // A colour that is not three numbers and a lost image are warnings that keep the defaults.
+  const igi::Material& odd = scene.materials[1];
+  CHECK_THAT(all, Catch::Contains("'odd': KHR_materials_specular specularColorFactor is not three numbers"));
+  CHECK_THAT(all, Catch::Contains("'odd'") && Catch::Contains("missing.png") && Catch::Contains("its specular factor stays"));
+  CHECK(odd.specular_color == glm::vec3(1.0f));
+  CHECK(odd.specular == 1.0f);
+  CHECK(odd.specular_texture == -1);
+  CHECK(all.find("ignores") == std::string::npos);  // the extension is known
 }
 
 TEST_CASE("glTF KHR_lights_punctual: point, spot and directional placed by their nodes", "[scene][gltf]") {

@@ -103,6 +103,20 @@ TEST_CASE("validate: broken indices and references are errors naming what is bro
     scene.materials.push_back({.name = "m", .base_color_texture = 2});
     CHECK_THAT(validation_error(scene), Contains("material 'm' uses texture 2"));
   }
+  for (const bool color : {false, true}) {  // KHR_materials_specular's factors and textures
+    igi::Scene scene = quad_scene();
+    igi::Material material{.name = "varnish"};
+    (color ? material.specular_color.g : material.specular) = std::numeric_limits<float>::quiet_NaN();
+    scene.materials.push_back(material);
+    CHECK_THAT(validation_error(scene), Contains("material 'varnish' has a non-finite parameter"));
+    scene.materials[0] = igi::Material{.name = "varnish"};
+    (color ? scene.materials[0].specular_color_texture : scene.materials[0].specular_texture) = 4;
+    CHECK_THAT(validation_error(scene), Contains("material 'varnish' uses texture 4"));
+    scene.materials[0] = igi::Material{.name = "varnish"};
+    (color ? scene.materials[0].specular_color_transform : scene.materials[0].specular_transform).matrix[2].x =
+        std::numeric_limits<float>::infinity();
+    CHECK_THAT(validation_error(scene), Contains("material 'varnish' has a non-finite texture transform"));
+  }
   {
     igi::Scene scene = quad_scene();
     scene.textures.push_back({.name = "t", .width = 2, .height = 2, .texels = std::vector<std::uint8_t>(15)});

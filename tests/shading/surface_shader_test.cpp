@@ -49,6 +49,11 @@ SurfaceHit<W> floor_hits(float spacing, float y = 0.0f) {
   return hit;
 }
 
+/// glTF's dielectric reflectance at normal incidence, ((1.5 - 1) / (1.5 + 1))^2 for its default ior.
+constexpr float gltf_f0 = 0.04f;
+/// What a dielectric's diffuse part keeps under that layer seen head-on.
+constexpr float dielectric_diffuse = 1.0f - gltf_f0;
+
 bool finite(const vec3<W>& v) { return all(isfinite(v.x) & isfinite(v.y) & isfinite(v.z)); }
 
 // A scene of one linear (not sRGB) `width` x `height` RGBA texture and one mesh of material 0,
@@ -211,8 +216,10 @@ TEST_CASE("GltfMaterialShader: factors, texture, cut-outs, metal, mirror, glass 
   mask.set(7, false);
   const BrdfParameters<W> p = shader.shade(hit, mask);
 
-  // Red texel (decoded 1, 0, 0) times factor 0.5: albedo (0.5, 0, 0), opaque.
-  CHECK(glm::length(p.albedo[0] - glm::vec3(0.5f, 0.0f, 0.0f)) < 1e-6f);
+  // Red texel (decoded 1, 0, 0) times factor 0.5, under glTF's 4% specular layer (seen head-on,
+  // the hits' wo is their normal): albedo (0.5 x 0.96, 0, 0), glossy 0.04, opaque.
+  CHECK(glm::length(p.albedo[0] - glm::vec3(0.5f * dielectric_diffuse, 0.0f, 0.0f)) < 1e-6f);
+  CHECK(glm::length(p.glossy[0] - glm::vec3(gltf_f0)) < 1e-6f);
   CHECK(p.opaque[0]);
   CHECK_FALSE(p.opaque[6]);
   // Gold: no diffuse part, glossy in its colour with exponent 2 / 0.25^2 - 2 = 30.
@@ -241,7 +248,7 @@ TEST_CASE("GltfMaterialShader: factors, texture, cut-outs, metal, mirror, glass 
   wide.texture_footprint = vfloat<W>(4.0f);
   const BrdfParameters<W> blurred = shader.shade(wide, mask);
   const float grey = srgb_to_linear_table()[nearest_srgb_code(0.5f)];
-  CHECK(glm::length(blurred.albedo[0] - glm::vec3(0.5f * grey, grey, grey)) < 1e-6f);
+  CHECK(glm::length(blurred.albedo[0] - glm::vec3(0.5f * grey, grey, grey) * dielectric_diffuse) < 1e-6f);
   // Cut-outs still test the alpha at the ray's point (0 there), not the mean (0.63, above the
   // cut-off 0.5): seen from afar the lane stays cut out, so a mask's coverage holds on average.
   CHECK_FALSE(blurred.opaque[6]);
@@ -296,12 +303,13 @@ TEST_CASE("GltfMaterialShader: metallic-roughness textures scale the factors, li
     CHECK(glm::length(p.mirror[lane] - q.mirror[lane]) < 1e-6f);
     CHECK(p.shininess[lane] == Approx(q.shininess[lane]).epsilon(1e-5));
   }
-  // Texel 0: roughness 0.9 x 64/255 = 0.226, metallic 0: a Lambertian surface in the base colour.
-  CHECK(glm::length(p.albedo[0] - glm::vec3(base)) < 1e-6f);
-  CHECK(p.glossy[0] == glm::vec3(0.0f));
-  // Texel 3: roughness 0 (below the mirror threshold), metallic 0.75 x 0.8 = 0.6: 60% mirror.
-  CHECK(glm::length(p.mirror[3] - glm::vec3(base) * 0.6f) < 1e-6f);
-  CHECK(glm::length(p.albedo[3] - glm::vec3(base) * 0.4f) < 1e-6f);
+  // Texel 0: roughness 0.9 x 64/255 = 0.226, metallic 0: the base colour under the 4% layer.
+  CHECK(glm::length(p.albedo[0] - glm::vec3(base) * dielectric_diffuse) < 1e-6f);
+  CHECK(glm::length(p.glossy[0] - glm::vec3(gltf_f0)) < 1e-6f);
+  // Texel 3: roughness 0 (below the mirror threshold), metallic 0.75 x 0.8 = 0.6: a mirror of 60%
+  // the base colour plus 40% of the dielectric's 4%.
+  CHECK(glm::length(p.mirror[3] - (glm::vec3(base) * 0.6f + glm::vec3(0.4f * gltf_f0))) < 1e-6f);
+  CHECK(glm::length(p.albedo[3] - glm::vec3(base) * 0.4f * dielectric_diffuse) < 1e-6f);
   // Texel 1: metallic 0.75, roughness 0.9: exponent 2 / 0.9^4 - 2.
   CHECK(p.shininess[1] == Approx(2.0f / std::pow(0.9f, 4.0f) - 2.0f).epsilon(1e-5));
 
@@ -320,7 +328,7 @@ TEST_CASE("GltfMaterialShader: metallic-roughness textures scale the factors, li
   // The mean of 0, 1, 0.2 and 0.8 is 0.5, code 127.5, which the 8-bit level stores within a code.
   CHECK(mean_metallic == Approx(0.75f * 0.5f).margin(0.75f / 255.0f));
   for (int lane = 0; lane < 4; ++lane)
-    CHECK(glm::length(blurred.albedo[lane] - glm::vec3(base) * (1.0f - mean_metallic)) < 1e-6f);
+    CHECK(glm::length(blurred.albedo[lane] - glm::vec3(base) * (1.0f - mean_metallic) * dielectric_diffuse) < 1e-6f);
 
   // A texture the scene lacks is an error with a message.
   Scene broken = scene;
@@ -578,6 +586,88 @@ TEST_CASE("ScalarShaderAdapter: calls the scalar function on active lanes only",
   CHECK(glm::length(p.normal[3] - glm::normalize(glm::vec3(0, 1, 1))) < 1e-6f);
   CHECK_FALSE(p.opaque[4]);
   CHECK(p.opaque[3]);
+}
+
+TEST_CASE("GltfMaterialShader: glTF's specular layer: Fresnel over the view angle, KHR_materials_specular's factors and "
+          "textures, Lambertian at specular 0", "[shading][gltf][specular]") {
+  // 1 x 1 textures: specular (linear, alpha 128) and specular colour (sRGB codes 255, 188, 64).
+  Scene scene = linear_texture_scene(1, 1, {0, 0, 0, 128});
+  scene.textures.push_back({.name = "tint", .width = 1, .height = 1, .texels = {255, 188, 64, 255}, .srgb = true});
+  const glm::vec4 base{0.6f, 0.5f, 0.4f, 1.0f};
+  const Material dielectric{.name = "varnish", .base_color = base, .metallic = 0.0f, .roughness = 0.5f};
+  Material rough = dielectric;
+  rough.roughness = 1.0f;
+  Material matte = dielectric;
+  matte.specular = 0.0f;
+  Material tinted = dielectric;  // KHR_materials_specular and KHR_materials_ior
+  tinted.roughness = 0.05f;      // below the mirror threshold
+  tinted.ior = 2.0f;
+  tinted.specular = 0.5f;
+  tinted.specular_color = {1.0f, 0.5f, 0.25f};
+  Material textured = tinted;  // factors 1, the values in the textures
+  textured.specular = 1.0f;
+  textured.specular_texture = 0;
+  textured.specular_color = glm::vec3(1.0f);
+  textured.specular_color_texture = 1;
+  Material gold{.name = "gold", .base_color = {1.0f, 0.8f, 0.3f, 1.0f}, .metallic = 1.0f, .roughness = 0.5f};
+  scene.materials = {dielectric, rough, matte, tinted, textured, gold};
+  const GltfMaterialShader shader(scene);
+
+  // Schlick's weight at cosine c, (1 - c)^5, and the view at that cosine to the floor's normal.
+  const auto schlick = [](float c) { return std::pow(1.0f - c, 5.0f); };
+  const auto view = [](float c) { return glm::vec3(std::sqrt(1.0f - c * c), c, 0.0f); };
+  const float cosines[W] = {1.0f, 0.8f, 0.5f, 0.3f, 0.1f, 0.02f, 0.0f, 0.6f};
+  const auto shade = [&](int material) {
+    SurfaceHit<W> hit = floor_hits(0.1f);
+    for (int i = 0; i < W; ++i) {
+      hit.material.set(i, material);
+      hit.wo.set(i, view(cosines[i]));
+    }
+    return shader.shade(hit, vmask<W>(true));
+  };
+  const BrdfParameters<W> varnish = shade(0), rough_varnish = shade(1), paint = shade(2), tint = shade(3),
+                          tint_textures = shade(4), metal = shade(5);
+  for (int i = 0; i < W; ++i) {
+    const float c = cosines[i];
+    INFO("cosine " << c);
+    // Roughness 0.5: from 4% head-on towards 1 - roughness = 50% at grazing; the diffuse part keeps the rest.
+    const float fresnel = gltf_f0 + (0.5f - gltf_f0) * schlick(c);
+    CHECK(glm::length(varnish.glossy[i] - glm::vec3(fresnel)) < 1e-6f);
+    CHECK(glm::length(varnish.albedo[i] - glm::vec3(base) * (1.0f - fresnel)) < 1e-6f);
+    CHECK(varnish.shininess[i] == Approx(30.0f));  // 2 / 0.25^2 - 2, as for metals
+    // Roughness 1: 4% at every angle.
+    CHECK(glm::length(rough_varnish.glossy[i] - glm::vec3(gltf_f0)) < 1e-6f);
+    CHECK(glm::length(rough_varnish.albedo[i] - glm::vec3(base) * dielectric_diffuse) < 1e-6f);
+    // Specular 0: exactly Lambertian, the base colour, at every angle.
+    CHECK(paint.albedo[i] == glm::vec3(base));
+    CHECK(paint.glossy[i] == glm::vec3(0.0f));
+    CHECK(paint.mirror[i] == glm::vec3(0.0f));
+    // ior 2 (f0 = 1/9) tinted by the colour and halved by the factor; smooth enough to be a mirror,
+    // whose Fresnel rises towards the factor (0.5) at grazing; the diffuse part keeps 1 - the largest channel.
+    const glm::vec3 f0 = glm::vec3(1.0f, 0.5f, 0.25f) / 9.0f;
+    const float undamped = 1.0f - 0.05f;
+    const glm::vec3 tint_fresnel = 0.5f * (f0 + (glm::vec3(undamped) - f0) * schlick(c));
+    CHECK(glm::length(tint.mirror[i] - tint_fresnel) < 1e-6f);
+    CHECK(tint.glossy[i] == glm::vec3(0.0f));
+    CHECK(glm::length(tint.albedo[i] - glm::vec3(base) * (1.0f - tint_fresnel.x)) < 1e-6f);
+    // The textures' alpha (linear 128 / 255) and colour (sRGB-decoded) scale like factors.
+    const float weight = 128.0f / 255.0f;
+    const glm::vec3 tint_color(1.0f, srgb_to_linear_table()[188], srgb_to_linear_table()[64]);
+    const glm::vec3 texture_f0 = tint_color / 9.0f;
+    const glm::vec3 texture_fresnel = weight * (texture_f0 + (glm::vec3(undamped) - texture_f0) * schlick(c));
+    CHECK(glm::length(tint_textures.mirror[i] - texture_fresnel) < 1e-6f);
+    CHECK(glm::length(tint_textures.albedo[i] - glm::vec3(base) * (1.0f - texture_fresnel.x)) < 1e-6f);
+    // Metals: their colour head-on, whiter towards grazing up to 1 - roughness in each channel.
+    const glm::vec3 gold_color(1.0f, 0.8f, 0.3f);
+    const glm::vec3 gold_fresnel = gold_color + (glm::max(glm::vec3(0.5f), gold_color) - gold_color) * schlick(c);
+    CHECK(glm::length(metal.glossy[i] - gold_fresnel) < 1e-6f);
+    CHECK(metal.albedo[i] == glm::vec3(0.0f));
+    // No lane reflects more than it receives.
+    for (const BrdfParameters<W>* p : {&varnish, &rough_varnish, &paint, &tint, &tint_textures, &metal}) {
+      const glm::vec3 total = p->albedo[i] + p->glossy[i] + p->mirror[i] + glm::vec3(p->transmission[i]);
+      CHECK(glm::all(glm::lessThanEqual(total, glm::vec3(1.0f + 1e-6f))));  // float rounding of a few products
+    }
+  }
 }
 
 TEST_CASE("GltfMaterialShader: no material reflects more than it receives", "[shading][gltf]") {

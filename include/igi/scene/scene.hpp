@@ -4,6 +4,7 @@
 /// glTF primitives (one material each), placed by instances with 4x4 transforms; lights are
 /// glTF punctual lights plus the emissive triangles of the meshes (found by the lighting layer).
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -29,10 +30,17 @@ struct Texture {
 struct UvTransform {
   glm::mat3x2 matrix{1.0f};  ///< Columns: the images of u and v, then the offset.
 
+  // Declared constructors make it a non-aggregate, so materials built with designated
+  // initializers that leave their transforms out do not warn (-Wmissing-field-initializers).
+  /// The identity.
+  UvTransform() noexcept = default;
+  /// The transform of `matrix`.
+  explicit UvTransform(const glm::mat3x2& matrix_) noexcept : matrix(matrix_) {}
+
   /// The extension's transform: scale, then rotate by `rotation` radians (u towards -v), then offset.
   static UvTransform from(const glm::vec2& offset, float rotation, const glm::vec2& scale) noexcept {
     const float c = std::cos(rotation), s = std::sin(rotation);
-    return {glm::mat3x2(glm::vec2(c * scale.x, -s * scale.x), glm::vec2(s * scale.y, c * scale.y), offset)};
+    return UvTransform(glm::mat3x2(glm::vec2(c * scale.x, -s * scale.x), glm::vec2(s * scale.y, c * scale.y), offset));
   }
   /// `uv` transformed.
   glm::vec2 apply(const glm::vec2& uv) const noexcept { return matrix * glm::vec3(uv, 1.0f); }
@@ -69,9 +77,31 @@ struct Material {
   UvTransform emissive_transform;                      ///< That texture's KHR_texture_transform.
   float transmission = 0.0f;                           ///< KHR_materials_transmission factor.
   float ior = 1.5f;                                    ///< KHR_materials_ior (glTF default 1.5).
+  /// KHR_materials_specular specularFactor: scales the dielectric part's specular reflection (its
+  /// Fresnel reflectance at normal and grazing incidence). glTF's default 1 gives every
+  /// non-metal the 4% reflection of ior 1.5; 0 makes it exactly Lambertian (igi's built-in
+  /// scenes, whose measured reflectances are diffuse).
+  float specular = 1.0f;
+  /// specularTexture: index into Scene::textures (linear; its alpha scales `specular`), or -1.
+  int specular_texture = -1;
+  UvTransform specular_transform;        ///< That texture's KHR_texture_transform.
+  glm::vec3 specular_color{1.0f};        ///< specularColorFactor: tints the normal-incidence reflectance (linear).
+  /// specularColorTexture: index into Scene::textures (sRGB; its rgb scales `specular_color`), or -1.
+  int specular_color_texture = -1;
+  UvTransform specular_color_transform;  ///< That texture's KHR_texture_transform.
   AlphaMode alpha_mode = AlphaMode::opaque;            ///< glTF alphaMode.
   float alpha_cutoff = 0.5f;                           ///< glTF default 0.5.
   bool double_sided = false;                           ///< glTF doubleSided.
+  /// Every texture slot's index into Scene::textures (-1 where the slot is empty).
+  std::array<int, 6> textures() const noexcept {
+    return {base_color_texture, emissive_texture, metallic_roughness_texture, normal_texture, specular_texture,
+            specular_color_texture};
+  }
+  /// Every texture slot's KHR_texture_transform.
+  std::array<const UvTransform*, 6> transforms() const noexcept {
+    return {&base_color_transform, &emissive_transform, &metallic_roughness_transform, &normal_transform,
+            &specular_transform, &specular_color_transform};
+  }
   /// True if the material emits light.
   bool emissive() const noexcept { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
 };
@@ -179,8 +209,12 @@ struct Scene {
   /// The material of `mesh`, or a default white diffuse one.
   const Material& material_of(int mesh) const noexcept {
     // glTF's default material is white metal; a grey diffuse surface (albedo 0.8, a common
-    // "white paint") is what a user expects of an untextured model such as the bunny.
-    static const Material fallback{.name = "default", .base_color = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f), .metallic = 0.0f};
+    // "white paint", no specular layer) is what a user expects of an untextured model such as the bunny.
+    static const Material fallback = [] {
+      Material material{.name = "default", .base_color = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f), .metallic = 0.0f};
+      material.specular = 0.0f;
+      return material;
+    }();
     const int m = meshes[std::size_t(mesh)].material;
     return m >= 0 ? materials[std::size_t(m)] : fallback;
   }

@@ -177,8 +177,7 @@ inline void validate_scene(Scene& scene, std::vector<std::string>* warnings = nu
   }
   check_scene_extent(scene, where);
   for (const Material& material : scene.materials) {
-    for (const int texture :
-         {material.base_color_texture, material.emissive_texture, material.metallic_roughness_texture, material.normal_texture})
+    for (const int texture : material.textures())
       if (texture < -1 || texture >= int(scene.textures.size()))
         throw SceneError(detail::located(where, "material '" + material.name + "' uses texture " + std::to_string(texture) +
                                                     " but the scene has " + std::to_string(scene.textures.size())));
@@ -186,10 +185,9 @@ inline void validate_scene(Scene& scene, std::vector<std::string>* warnings = nu
         !std::isfinite(material.base_color.b) || !std::isfinite(material.base_color.a) ||
         !detail::finite(material.emission) || !std::isfinite(material.metallic) || !std::isfinite(material.roughness) ||
         !std::isfinite(material.transmission) || !std::isfinite(material.ior) || !std::isfinite(material.alpha_cutoff) ||
-        !std::isfinite(material.normal_scale))
+        !std::isfinite(material.normal_scale) || !std::isfinite(material.specular) || !detail::finite(material.specular_color))
       throw SceneError(detail::located(where, "material '" + material.name + "' has a non-finite parameter"));
-    for (const UvTransform* transform : {&material.base_color_transform, &material.metallic_roughness_transform,
-                                         &material.normal_transform, &material.emissive_transform})
+    for (const UvTransform* transform : material.transforms())
       for (int column = 0; column < 3; ++column)
         if (!std::isfinite(transform->matrix[column].x) || !std::isfinite(transform->matrix[column].y))
           throw SceneError(detail::located(where, "material '" + material.name + "' has a non-finite texture transform"));

@@ -62,6 +62,7 @@ inline int add_material(Scene& scene, const std::string& name, const glm::vec3& 
   material.base_color = glm::vec4(albedo, 1.0f);
   material.metallic = 0.0f;
   material.roughness = 1.0f;
+  material.specular = 0.0f;  // matte paint: exactly Lambertian, as the room's reference comparisons assume
   material.emission = emission;
   scene.materials.push_back(material);
   return int(scene.materials.size()) - 1;

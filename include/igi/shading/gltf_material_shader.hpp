@@ -1,15 +1,20 @@
 #pragma once
 /// \file
-/// The default surface shader: glTF metallic-roughness materials (factors; base-colour and
-/// emissive textures with sRGB decode and linear metallic-roughness textures, read trilinearly
-/// from mip chains at the hit's footprint; alpha-mask cut-outs; transmission) mapped onto igi's
-/// few BRDF parameters.
+/// The default surface shader: glTF metallic-roughness materials (factors; base-colour, emissive
+/// and specular-colour textures with sRGB decode, linear metallic-roughness, normal and specular
+/// textures, read trilinearly from mip chains at the hit's footprint; alpha-mask cut-outs;
+/// transmission; KHR_materials_specular) mapped onto igi's few BRDF parameters.
 ///
 /// The mapping (per hit, with base = baseColorFactor x base-colour texture, linear):
-/// - albedo = base.rgb x (1 - metallic) x (1 - transmission): the Lambertian part;
-/// - specular = base.rgb x metallic: metals reflect in their own colour. glTF's 4% dielectric
-///   Fresnel reflection is left out, so rough plastics and paint stay exactly Lambertian with
-///   albedo = base colour (what the closed-box and Cornell tests compare against);
+/// - the dielectric part (weight (1 - metallic) x (1 - transmission)) is glTF's Fresnel mix of
+///   a Lambertian base and a specular layer: F = specular x Fresnel(f0), f0 = ((ior - 1) /
+///   (ior + 1))^2 x specularColor (4% for glTF's defaults; KHR_materials_specular's factors and
+///   textures), albedo = base.rgb x (1 - max(F)); a specular factor of 0 leaves it exactly
+///   Lambertian (igi's built-in scenes);
+/// - metals reflect Fresnel(base.rgb): in their own colour, whiter towards grazing;
+/// - Fresnel is Schlick's at the view's angle to the shading normal, its grazing rise damped by
+///   roughness (rough_fresnel); the specular reflectance is metallic x Fresnel(base.rgb) +
+///   dielectric weight x F;
 /// - metallic and roughness are their factors times the metallic-roughness texture's blue and
 ///   green channels (linear, read at the footprint as the base colour) where there is one;
 /// - roughness r gives the Phong exponent 2 / r^4 - 2 (the Blinn-Phong exponent matching a
@@ -86,6 +91,19 @@ namespace igi {
   return tilted * (side / std::sqrt(length2));
 }
 
+/// Schlick's Fresnel reflectance from `f0` at normal incidence, rising towards 1 at grazing, for a
+/// view at `cosine` to the shading normal, its rise damped to 1 - `roughness` (Lagarde and de
+/// Rousiers, "Moving Frostbite to PBR", 2014). igi multiplies the filtered irradiance of all VPLs
+/// by one diffuse reflectance, so the Fresnel weight cannot follow each VPL's half vector: it is
+/// taken at the lobe's axis, exact for a mirror and for the peak of a lobe; a rough lobe's light
+/// comes mostly from off its peak, where the half vector is steeper and the reflectance lower,
+/// hence the damping (a roughness-1 surface keeps f0 at every angle).
+[[gnu::always_inline]] inline glm::vec3 rough_fresnel(const glm::vec3& f0, float roughness, float cosine) {
+  const float x = 1.0f - std::clamp(cosine, 0.0f, 1.0f);
+  const float x2 = x * x;
+  return f0 + (glm::max(glm::vec3(1.0f - roughness), f0) - f0) * (x2 * x2 * x);
+}
+
 /// Maps one hit on `material` to BRDF parameters (the mapping in this file's comment), its
 /// textures read from `mips` (one chain per Scene::textures entry) at the hit's footprint.
 // Always inlined into the shader's lane loop, with its texture lookups (see texture_sampling.hpp's mix_texels).
@@ -116,8 +134,31 @@ namespace igi {
   const glm::vec3 color = glm::clamp(glm::vec3(base), glm::vec3(0.0f), glm::vec3(1.0f));
 
   ScalarBrdfParameters p;
-  p.albedo = color * (1.0f - metallic) * (1.0f - transmission);
-  const glm::vec3 specular = color * metallic;
+  p.ior = material.ior > 0.0f && std::isfinite(material.ior) ? material.ior : 1.5f;  // glTF's default ior
+  p.normal = material.normal_texture >= 0
+                 ? normal_mapped(mips[std::size_t(material.normal_texture)], material.normal_scale, material.normal_transform, point)
+                 : point.shading_normal;
+  const float cosine = glm::dot(p.normal, point.wo);
+  const float dielectric = (1.0f - metallic) * (1.0f - transmission);
+  // The dielectric part's specular layer (KHR_materials_specular, glTF's defaults without it).
+  float specular_weight = dielectric > 0.0f ? material.specular : 0.0f;
+  if (specular_weight > 0.0f && material.specular_texture >= 0)
+    specular_weight *= sample_transformed(mips[std::size_t(material.specular_texture)], material.specular_transform, point).a;
+  specular_weight = std::clamp(specular_weight, 0.0f, 1.0f);
+  glm::vec3 specular(0.0f);
+  p.albedo = color * dielectric;
+  if (specular_weight > 0.0f) {
+    glm::vec3 specular_color = material.specular_color;
+    if (material.specular_color_texture >= 0)
+      specular_color *= glm::vec3(
+          sample_transformed(mips[std::size_t(material.specular_color_texture)], material.specular_color_transform, point));
+    const float ior_reflectance = (p.ior - 1.0f) * (p.ior - 1.0f) / ((p.ior + 1.0f) * (p.ior + 1.0f));
+    const glm::vec3 f0 = glm::clamp(ior_reflectance * specular_color, glm::vec3(0.0f), glm::vec3(1.0f));
+    const glm::vec3 fresnel = specular_weight * rough_fresnel(f0, roughness, cosine);
+    p.albedo *= 1.0f - std::max(fresnel.x, std::max(fresnel.y, fresnel.z));
+    specular = fresnel * dielectric;
+  }
+  if (metallic > 0.0f) specular += rough_fresnel(color, roughness, cosine) * metallic;
   if (roughness < mirror_roughness) {
     p.mirror = specular;
   } else {
@@ -127,10 +168,6 @@ namespace igi {
     p.shininess = std::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 1e4f);
   }
   p.transmission = transmission * (1.0f - metallic);
-  p.ior = material.ior > 0.0f && std::isfinite(material.ior) ? material.ior : 1.5f;  // glTF's default ior
-  p.normal = material.normal_texture >= 0
-                 ? normal_mapped(mips[std::size_t(material.normal_texture)], material.normal_scale, material.normal_transform, point)
-                 : point.shading_normal;
   if (point.front_face || material.double_sided) {
     p.emission = material.emission;
     if (material.emissive_texture >= 0)
@@ -153,7 +190,7 @@ class GltfMaterialShader {
   explicit GltfMaterialShader(const Scene& scene, float mirror_roughness = default_mirror_roughness)
       : scene_(&scene), mirror_roughness_(mirror_roughness) {
     for (const Material& m : scene.materials) {
-      for (const int texture : {m.base_color_texture, m.emissive_texture, m.metallic_roughness_texture, m.normal_texture})
+      for (const int texture : m.textures())
         if (texture >= int(scene.textures.size()))
           throw std::invalid_argument("GltfMaterialShader: material '" + m.name + "' uses texture " +
                                       std::to_string(texture) + " but the scene has " +

@@ -75,15 +75,21 @@ IGI_INLINE Scene cornell_box() {
   Scene scene;
   scene.name = "cornell";
   // Mitsuba 3 cbox albedos (linear RGB) and the light's radiance: emissiveFactor x emissiveStrength.
+  // The box's paints were measured as diffuse reflectances, so no specular layer (specular 0;
+  // cornell_box.gltf, which cannot say so without KHR_materials_specular, has glTF's 4%).
   scene.materials = {
-      Material{.name = "white", .base_color = {0.885809f, 0.698859f, 0.666422f, 1.0f}, .metallic = 0.0f, .roughness = 1.0f},
-      Material{.name = "red", .base_color = {0.570068f, 0.0430135f, 0.0443706f, 1.0f}, .metallic = 0.0f, .roughness = 1.0f},
-      Material{.name = "green", .base_color = {0.105421f, 0.37798f, 0.076425f, 1.0f}, .metallic = 0.0f, .roughness = 1.0f},
+      Material{.name = "white", .base_color = {0.885809f, 0.698859f, 0.666422f, 1.0f}, .metallic = 0.0f, .roughness = 1.0f,
+               .specular = 0.0f},
+      Material{.name = "red", .base_color = {0.570068f, 0.0430135f, 0.0443706f, 1.0f}, .metallic = 0.0f, .roughness = 1.0f,
+               .specular = 0.0f},
+      Material{.name = "green", .base_color = {0.105421f, 0.37798f, 0.076425f, 1.0f}, .metallic = 0.0f, .roughness = 1.0f,
+               .specular = 0.0f},
       Material{.name = "light",
                .base_color = {0.78f, 0.78f, 0.78f, 1.0f},
                .metallic = 0.0f,
                .roughness = 1.0f,
-               .emission = 18.387f * glm::vec3(1.0f, 0.7607168107902321f, 0.36730135421765375f)},
+               .emission = 18.387f * glm::vec3(1.0f, 0.7607168107902321f, 0.36730135421765375f),
+               .specular = 0.0f},
   };
   for (const cornell_detail::Part& part : cornell_detail::parts()) {
     Mesh mesh;

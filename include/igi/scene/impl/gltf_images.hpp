@@ -42,6 +42,38 @@ inline bool keep_encoded_image(tinygltf::Image* image, const int image_index, st
   return true;
 }
 
+/// A texture reference inside a material extension (KHR_materials_specular's textures): glTF's
+/// textureInfo as a JSON value rather than tinygltf's parsed struct.
+struct ExtensionTexture {
+  int index = -1;                   ///< glTF texture index, -1 when absent or not an integer.
+  int uv_set = 0;                   ///< texCoord.
+  tinygltf::ExtensionMap extensions;  ///< The textureInfo's own extensions (KHR_texture_transform).
+};
+
+/// Texture info `field` of material extension `extension` in `extensions`.
+inline ExtensionTexture extension_texture(const tinygltf::ExtensionMap& extensions, const char* extension, const char* field) {
+  ExtensionTexture texture;
+  const auto found = extensions.find(extension);
+  if (found == extensions.end() || !found->second.IsObject() || !found->second.Has(field)) return texture;
+  const tinygltf::Value& info = found->second.Get(field);
+  if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt()) return texture;
+  texture.index = info.Get("index").GetNumberAsInt();
+  if (info.Has("texCoord") && info.Get("texCoord").IsInt()) texture.uv_set = info.Get("texCoord").GetNumberAsInt();
+  if (info.Has("extensions") && info.Get("extensions").IsObject()) {
+    const tinygltf::Value& nested = info.Get("extensions");
+    for (const std::string& key : nested.Keys()) texture.extensions.emplace(key, nested.Get(key));
+  }
+  return texture;
+}
+
+/// The glTF texture indices of every slot of `material` igi reads (-1 where a slot is empty).
+inline std::array<int, 6> material_texture_indices(const tinygltf::Material& material) {
+  return {material.pbrMetallicRoughness.baseColorTexture.index, material.emissiveTexture.index,
+          material.pbrMetallicRoughness.metallicRoughnessTexture.index, material.normalTexture.index,
+          extension_texture(material.extensions, "KHR_materials_specular", "specularTexture").index,
+          extension_texture(material.extensions, "KHR_materials_specular", "specularColorTexture").index};
+}
+
 /// The decoded images of one parsed glTF model and the scene textures made from them.
 class TextureTable {
  public:
@@ -144,12 +176,11 @@ class TextureTable {
     return source;
   }
 
-  /// The glTF images base colour, emissive, metallic-roughness or normal textures use.
+  /// The glTF images the materials' texture slots use.
   std::vector<int> used_images() const {
     std::vector<char> used(model_.images.size(), 0);
     for (const tinygltf::Material& material : model_.materials) {
-      for (const int texture : {material.pbrMetallicRoughness.baseColorTexture.index, material.emissiveTexture.index,
-                                material.pbrMetallicRoughness.metallicRoughnessTexture.index, material.normalTexture.index})
+      for (const int texture : material_texture_indices(material))
         if (texture >= 0 && std::size_t(texture) < model_.textures.size()) {
           const int source = model_.textures[std::size_t(texture)].source;
           if (source >= 0 && std::size_t(source) < model_.images.size()) used[std::size_t(source)] = 1;

@@ -46,7 +46,8 @@ namespace gltf_detail {
 inline const std::set<std::string, std::less<>>& supported_extensions() {
   static const std::set<std::string, std::less<>> names{
       "KHR_lights_punctual",      "KHR_materials_emissive_strength", "KHR_materials_transmission",
-      "KHR_materials_ior",        "KHR_mesh_quantization",           "KHR_texture_transform"};
+      "KHR_materials_ior",        "KHR_materials_specular",          "KHR_mesh_quantization",
+      "KHR_texture_transform"};
   return names;
 }
 
@@ -167,6 +168,22 @@ class Loader {
     return value.IsNumber() ? value.GetNumberAsDouble() : fallback;
   }
 
+  /// Colour `field` of material extension `extension`, or `fallback` when absent; a value that is
+  /// not three numbers is named in a warning to `user` and left at `fallback`.
+  glm::vec3 extension_color(const tinygltf::ExtensionMap& extensions, const char* extension, const char* field,
+                            glm::vec3 fallback, const std::string& user) const {
+    const auto found = extensions.find(extension);
+    if (found == extensions.end() || !found->second.IsObject() || !found->second.Has(field)) return fallback;
+    const tinygltf::Value& value = found->second.Get(field);
+    if (!value.IsArray() || value.ArrayLen() != 3 || !value.Get(0).IsNumber() || !value.Get(1).IsNumber() ||
+        !value.Get(2).IsNumber()) {
+      warn(user + ": " + extension + " " + field + " is not three numbers; left at its default");
+      return fallback;
+    }
+    return {float(value.Get(0).GetNumberAsDouble()), float(value.Get(1).GetNumberAsDouble()),
+            float(value.Get(2).GetNumberAsDouble())};
+  }
+
   /// The KHR_texture_transform of the texture in `slot` of `user`, whose texture info carries
   /// `extensions` (identity without one), and the uv set it reads: `uv_set`, or the extension's
   /// texCoord. Fields that are not numbers are named in a warning and left at their defaults.
@@ -201,6 +218,21 @@ class Loader {
     if (texture >= 0 && uv_set != 0)
       warn(user + ": " + slot + " texture uses TEXCOORD_" + std::to_string(uv_set) + "; igi samples " + slot +
            " textures with set 0");
+  }
+
+  /// KHR_materials_specular's factors and textures into `material` (glTF's defaults without it).
+  void convert_specular(const tinygltf::ExtensionMap& extensions, const std::string& user, Material& material) {
+    const char* extension = "KHR_materials_specular";
+    material.specular = float(extension_number(extensions, extension, "specularFactor", 1.0));
+    material.specular_color = extension_color(extensions, extension, "specularColorFactor", glm::vec3(1.0f), user);
+    ExtensionTexture specular = extension_texture(extensions, extension, "specularTexture");
+    material.specular_texture = textures_.scene_texture(specular.index, user, "specular", false, scene_.textures);
+    material.specular_transform = texture_transform(specular.extensions, user, "specular", specular.uv_set);
+    warn_uv_set(material.specular_texture, specular.uv_set, user, "specular");
+    ExtensionTexture color = extension_texture(extensions, extension, "specularColorTexture");
+    material.specular_color_texture = textures_.scene_texture(color.index, user, "specular colour", true, scene_.textures);
+    material.specular_color_transform = texture_transform(color.extensions, user, "specular colour", color.uv_set);
+    warn_uv_set(material.specular_color_texture, color.uv_set, user, "specular colour");
   }
 
   /// Converts every glTF material (indices are kept, so primitives keep theirs).
@@ -243,6 +275,7 @@ class Loader {
       warn_uv_set(material.emissive_texture, uv_set, user, "emissive");
       material.transmission = float(extension_number(source.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
       material.ior = float(extension_number(source.extensions, "KHR_materials_ior", "ior", 1.5));  // glTF's default IOR
+      convert_specular(source.extensions, user, material);
       if (source.alphaMode == "MASK") {
         material.alpha_mode = AlphaMode::mask;
       } else if (source.alphaMode == "BLEND") {
