@@ -48,7 +48,8 @@ Mesh tessellate(const Mesh& mesh, int n) {
   const std::size_t grid = std::size_t(n + 1) * std::size_t(n + 2) / 2;
   out.positions.reserve(mesh.triangles.size() * grid);
   out.triangles.reserve(mesh.triangles.size() * std::size_t(n) * std::size_t(n));
-  const bool normals = !mesh.normals.empty(), uvs = !mesh.uvs.empty(), uvs1 = !mesh.uvs1.empty();
+  const bool normals = !mesh.normals.empty(), uvs = !mesh.uvs.empty(), uvs1 = !mesh.uvs1.empty(),
+             tangents = !mesh.tangents.empty();
   for (const glm::uvec3& t : mesh.triangles) {
     const auto first = unsigned(out.positions.size());
     // Grid point (i, j) = a + i/n (b - a) + j/n (c - a), rows of constant i stored one after another.
@@ -62,6 +63,11 @@ Mesh tessellate(const Mesh& mesh, int n) {
         if (normals) out.normals.push_back(glm::normalize(blend(mesh.normals)));
         if (uvs) out.uvs.push_back(blend(mesh.uvs));
         if (uvs1) out.uvs1.push_back(blend(mesh.uvs1));
+        if (tangents) {  // interpolated and renormalised; a corner without a usable tangent (w = 0) leaves none
+          const float sign = mesh.tangents[t.x].w;
+          const bool usable = sign != 0.0f && mesh.tangents[t.y].w != 0.0f && mesh.tangents[t.z].w != 0.0f;
+          out.tangents.push_back(usable ? glm::vec4(glm::normalize(glm::vec3(blend(mesh.tangents))), sign) : glm::vec4(0.0f));
+        }
       }
     }
     auto at = [&](int i, int j) { return first + row_start[std::size_t(i)] + unsigned(j); };
@@ -99,6 +105,7 @@ double scene_bytes(const Scene& scene) {
   for (const Mesh& m : scene.meshes)
     bytes += double(m.positions.capacity() * sizeof(glm::vec3) + m.normals.capacity() * sizeof(glm::vec3) +
                     m.uvs.capacity() * sizeof(glm::vec2) + m.uvs1.capacity() * sizeof(glm::vec2) +
+                    m.tangents.capacity() * sizeof(glm::vec4) +
                     m.triangles.capacity() * sizeof(glm::uvec3));
   return bytes;
 }

@@ -36,11 +36,15 @@ glm::vec3 floor_normal(float red) {
 
 /// A white floor (y = 0, half-size 3, u along +x and v along +z) with `normals` as its normal
 /// texture, or none, under a sun 45 degrees above the +x horizon; the camera looks down on it.
-Scene floor_under_sun(bool normals) {
+/// `tangent_x` != 0 gives it TANGENTs along that sign of x, their bitangents along -z.
+Scene floor_under_sun(bool normals, float tangent_x = 0.0f) {
   Scene scene;
   scene.name = "normal-mapped floor";
   const int white = add_material(scene, glm::vec3(0.8f));
   add_quad(scene, {0.0f, 0.0f, 0.0f}, {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 3.0f, white);
+  // cross(+y, (x, 0, 0)) w = -z needs w = x.
+  if (tangent_x != 0.0f)
+    scene.meshes.back().tangents.assign(scene.meshes.back().positions.size(), glm::vec4(tangent_x, 0.0f, 0.0f, tangent_x));
   if (normals) {
     scene.textures.push_back(tilted_halves());
     scene.materials[std::size_t(white)].normal_texture = 0;
@@ -55,6 +59,10 @@ Scene floor_under_sun(bool normals) {
 
 TEST_CASE("normal maps: a floor tilted towards the sun and away from it takes the light of the tilted normals",
           "[render][normal-map]") {
+  // Without TANGENTs, with TANGENTs along the uv frame (the same image) and with TANGENTs turned
+  // half round (the map's x then runs along -x: the halves' tilts swap).
+  const float tangent_x = GENERATE(0.0f, 1.0f, -1.0f);
+  INFO("TANGENT x " << tangent_x);
   RenderSettings settings;
   settings.width = 48;
   settings.height = 36;
@@ -62,7 +70,7 @@ TEST_CASE("normal maps: a floor tilted towards the sun and away from it takes th
   settings.threads = 2;
   settings.filter_textures = false;  // the normals at each ray's point, not blended across the halves' seam
   Scene flat = floor_under_sun(false);
-  Scene bumpy = floor_under_sun(true);
+  Scene bumpy = floor_under_sun(true, tangent_x);
   const Frame flat_frame = render_once<EmbreeBackend<8>>(flat, settings);
   const Frame bumpy_frame = render_once<EmbreeBackend<8>>(bumpy, settings);
 
@@ -70,8 +78,9 @@ TEST_CASE("normal maps: a floor tilted towards the sun and away from it takes th
   // direct light, albedo / pi x irradiance x cos, so the two frames' ratio is the cosines' ratio.
   const glm::vec3 towards_sun = glm::normalize(glm::vec3(1.0f, 1.0f, 0.0f));
   const float flat_cosine = towards_sun.y;
-  const float left_ratio = glm::dot(floor_normal(191.0f), towards_sun) / flat_cosine;   // 1.37
-  const float right_ratio = glm::dot(floor_normal(64.0f), towards_sun) / flat_cosine;   // 0.37
+  const bool swapped = tangent_x < 0.0f;
+  const float left_ratio = glm::dot(floor_normal(swapped ? 64.0f : 191.0f), towards_sun) / flat_cosine;   // 1.37
+  const float right_ratio = glm::dot(floor_normal(swapped ? 191.0f : 64.0f), towards_sun) / flat_cosine;  // 0.37
   int left = 0, right = 0, left_match = 0, right_match = 0;
   for_each_floor_pixel(flat.cameras.front(), settings, [&](std::size_t i, const glm::vec3& floor) {
     // Away from the halves' seam (x = 0) and from the floor's edges, where bilinear lookups
@@ -88,8 +97,8 @@ TEST_CASE("normal maps: a floor tilted towards the sun and away from it takes th
       right_match += light == Approx(flat_light * right_ratio).epsilon(1e-4) ? 1 : 0;
     }
   });
-  INFO(left_match << " of " << left << " pixels on the half tilted towards the sun, " << right_match << " of " << right
-                  << " on the half tilted away, at the tilted normals' light");
+  INFO(left_match << " of " << left << " pixels on the left half, " << right_match << " of " << right
+                  << " on the right half, at the tilted normals' light");
   CHECK(left > 100);
   CHECK(right > 100);
   CHECK(left_match == left);

@@ -171,6 +171,43 @@ TEST_CASE("glTF attribute component types: normalized and integer texcoords, nor
   CHECK(mesh.uvs1[1].y == Approx(0.2f));  // 13107 / 65535
 }
 
+TEST_CASE("glTF TANGENT: float and normalized short tangents, w reduced to its sign; unusable ones warn, wrong counts "
+          "fail", "[scene][gltf][normal-map]") {
+  const auto scene_with = [](bool quantized, int tangent_count, std::string& warnings) {
+    GltfBuilder b;
+    b.doc["extensionsUsed"] = {"KHR_mesh_quantization"};
+    const int position = b.add_positions({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    int tangent = 0;
+    if (quantized) {
+      // Normalized shorts: 32767 -> 1, -32768 clamps to -1; the third tangent is zero (unusable).
+      tangent = b.add_data(std::vector<std::int16_t>{32767, 0, 0, 32767, 0, -32768, 0, -32768, 0, 0, 0, 32767},
+                           component::i16, "VEC4", 4, true);
+    } else {
+      std::vector<float> values{2, 0, 0, 0.5f, 0, 0, 3, -0.25f, 0, 1, 0, 1};
+      values.resize(std::size_t(tangent_count) * 4, 1.0f);
+      tangent = b.add_data(values, component::f32, "VEC4", 4);
+    }
+    b.add_mesh("m", json::array({{{"attributes", {{"POSITION", position}, {"TANGENT", tangent}}}}}));
+    b.add_node({{"mesh", 0}});
+    b.set_roots({0});
+    return load_with_warnings(b.write_gltf(scratch_dir("tangents"), quantized ? "quantized" : "float"), warnings);
+  };
+  std::string warnings;
+  const igi::Scene floats = scene_with(false, 3, warnings);
+  CHECK(warnings.empty());
+  REQUIRE(floats.meshes[0].tangents.size() == 3);
+  CHECK(floats.meshes[0].tangents[0] == glm::vec4(1, 0, 0, 1));
+  CHECK(floats.meshes[0].tangents[1] == glm::vec4(0, 0, 1, -1));
+  CHECK(floats.meshes[0].tangents[2] == glm::vec4(0, 1, 0, 1));
+  const igi::Scene shorts = scene_with(true, 3, warnings);
+  REQUIRE(shorts.meshes[0].tangents.size() == 3);
+  CHECK(shorts.meshes[0].tangents[0] == glm::vec4(1, 0, 0, 1));
+  CHECK(shorts.meshes[0].tangents[1] == glm::vec4(0, -1, 0, -1));
+  CHECK(shorts.meshes[0].tangents[2] == glm::vec4(0.0f));
+  CHECK_THAT(warnings, Catch::Contains("1 zero or non-finite tangents"));
+  CHECK_THROWS_WITH(scene_with(false, 2, warnings), Catch::Contains("TANGENT has 2 elements for 3 positions"));
+}
+
 TEST_CASE("glTF byteStride: interleaved position, normal and uv as in Sponza", "[scene][gltf]") {
   GltfBuilder b;
   // Per vertex: position (12 bytes), normal (12), uv (8) = 32 bytes.

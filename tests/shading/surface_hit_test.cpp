@@ -334,3 +334,57 @@ TEST_CASE("ray offsets: rays leaving a surface far from the origin never hit it 
   }
   CHECK(rays == 512);
 }
+
+TEST_CASE("make_surface_hit: a mesh's TANGENTs turn the normal maps' frame, mirrored instances included",
+          "[shading][normal-map]") {
+  // The quad's tangents run along object +y (a quarter turn from its u axis, +x), w = +-1; under
+  // a plain and a mirroring transform the frame must follow the tangents: dpdu along the world
+  // tangent, -dpdv along the bitangent w cross(n, t), on the same side as the transformed object
+  // bitangent (a mirror turns the cross product, which the handedness undoes), each as long as
+  // the uv derivative it replaces. A vertex without a usable tangent (w = 0) keeps the uv frame.
+  for (const float mirror : {1.0f, -1.0f})
+    for (const float sign : {1.0f, -1.0f}) {
+      INFO("mirror " << mirror << ", w " << sign);
+      const glm::mat4 transform = glm::scale(test_transform(), glm::vec3(mirror, 1.0f, 1.0f));
+      Scene scene = tilted_scene(transform);
+      Mesh& mesh = scene.meshes[0];
+      mesh.tangents.assign(mesh.positions.size(), glm::vec4(0.0f, 1.0f, 0.0f, sign));
+      const ReferenceBackend<4> backend(scene);
+      const glm::vec3 world_normal = glm::normalize(glm::transpose(glm::inverse(glm::mat3(transform))) * glm::vec3(0, 0, 1));
+      RayPacket<4> rays;
+      vec3<4> origin, direction;
+      for (int i = 0; i < 4; ++i) {
+        const glm::vec3 target(transform * glm::vec4(0.1f * float(i) - 0.2f, 0.15f - 0.1f * float(i), 0.0f, 1.0f));
+        origin.set(i, target + 3.0f * world_normal);
+        direction.set(i, -world_normal);
+      }
+      rays.set(origin, direction, vfloat<4>(0.0f), vfloat<4>(1e30f), vmask<4>(true));
+      HitPacket<4> hits;
+      hits.clear();
+      backend.intersect(rays, hits, vmask<4>(true));
+      REQUIRE(all(hits.valid()));
+      const SurfaceHit<4> hit = make_surface_hit(scene, rays, hits, vmask<4>(true));
+
+      const glm::mat3 linear(transform);
+      const glm::vec3 vertex_normal =
+          glm::normalize(glm::transpose(glm::inverse(linear)) * glm::normalize(glm::vec3(0.5f, 0.0f, 1.0f)));
+      const glm::vec3 tangent = glm::normalize(linear * glm::vec3(0, 1, 0));
+      const glm::vec3 bitangent = glm::cross(vertex_normal, tangent) * sign * mirror;
+      const glm::vec3 object_bitangent = glm::cross(glm::normalize(glm::vec3(0.5f, 0.0f, 1.0f)), glm::vec3(0, 1, 0)) * sign;
+      const float u_length = glm::length(linear * glm::vec3(1, 0, 0)), v_length = glm::length(linear * glm::vec3(0, 1, 0));
+      for (int i = 0; i < 4; ++i) {
+        INFO("lane " << i);
+        // 1e-5: float rounding of the transforms and normalisations (lengths up to 3).
+        CHECK(glm::length(hit.dpdu[i] - tangent * u_length) < 1e-5f);
+        CHECK(glm::length(hit.dpdv[i] + bitangent * v_length) < 1e-5f);
+        CHECK(glm::dot(-hit.dpdv[i], linear * object_bitangent) > 0.0f);
+      }
+      // Vertices without usable tangents (w = 0, as the loader leaves them): the uv derivatives stay.
+      for (glm::vec4& t : mesh.tangents) t.w = 0.0f;
+      const SurfaceHit<4> plain = make_surface_hit(scene, rays, hits, vmask<4>(true));
+      for (int i = 0; i < 4; ++i) {
+        CHECK(glm::length(plain.dpdu[i] - linear * glm::vec3(1, 0, 0)) < 1e-5f);
+        CHECK(glm::length(plain.dpdv[i] - linear * glm::vec3(0, 1, 0)) < 1e-5f);
+      }
+    }
+}

@@ -30,17 +30,10 @@ struct Texture {
 struct UvTransform {
   glm::mat3x2 matrix{1.0f};  ///< Columns: the images of u and v, then the offset.
 
-  // Declared constructors make it a non-aggregate, so materials built with designated
-  // initializers that leave their transforms out do not warn (-Wmissing-field-initializers).
-  /// The identity.
-  UvTransform() noexcept = default;
-  /// The transform of `matrix`.
-  explicit UvTransform(const glm::mat3x2& matrix_) noexcept : matrix(matrix_) {}
-
   /// The extension's transform: scale, then rotate by `rotation` radians (u towards -v), then offset.
   static UvTransform from(const glm::vec2& offset, float rotation, const glm::vec2& scale) noexcept {
     const float c = std::cos(rotation), s = std::sin(rotation);
-    return UvTransform(glm::mat3x2(glm::vec2(c * scale.x, -s * scale.x), glm::vec2(s * scale.y, c * scale.y), offset));
+    return {glm::mat3x2(glm::vec2(c * scale.x, -s * scale.x), glm::vec2(s * scale.y, c * scale.y), offset)};
   }
   /// `uv` transformed.
   glm::vec2 apply(const glm::vec2& uv) const noexcept { return matrix * glm::vec3(uv, 1.0f); }
@@ -113,6 +106,10 @@ struct Mesh {
   std::vector<glm::vec3> normals;          ///< Unit vertex normals (computed when the file has none).
   std::vector<glm::vec2> uvs;              ///< TEXCOORD_0, empty if absent.
   std::vector<glm::vec2> uvs1;             ///< TEXCOORD_1, empty if absent (for materials with uv set 1).
+  /// glTF TANGENT, empty if absent: a unit tangent along increasing u in xyz and in w the sign (+-1)
+  /// of the bitangent cross(normal, tangent), which runs along increasing v's image +y of a normal
+  /// map; all zero for a vertex whose tangent was unusable (normal maps then take the uv frame).
+  std::vector<glm::vec4> tangents;
   std::vector<glm::uvec3> triangles;       ///< Vertex indices, counter-clockwise front faces.
   int material = -1;                       ///< Index into Scene::materials, or -1 for the default.
 };
@@ -210,11 +207,8 @@ struct Scene {
   const Material& material_of(int mesh) const noexcept {
     // glTF's default material is white metal; a grey diffuse surface (albedo 0.8, a common
     // "white paint", no specular layer) is what a user expects of an untextured model such as the bunny.
-    static const Material fallback = [] {
-      Material material{.name = "default", .base_color = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f), .metallic = 0.0f};
-      material.specular = 0.0f;
-      return material;
-    }();
+    static const Material fallback{
+        .name = "default", .base_color = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f), .metallic = 0.0f, .specular = 0.0f};
     const int m = meshes[std::size_t(mesh)].material;
     return m >= 0 ? materials[std::size_t(m)] : fallback;
   }

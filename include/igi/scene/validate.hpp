@@ -87,6 +87,9 @@ inline void check_mesh(const Mesh& mesh, std::string_view where = {}) {
   if (!mesh.uvs1.empty() && mesh.uvs1.size() != vertex_count)
     throw SceneError(detail::located(where, name + " has " + std::to_string(mesh.uvs1.size()) +
                                                 " TEXCOORD_1 uvs for " + std::to_string(vertex_count) + " vertices"));
+  if (!mesh.tangents.empty() && mesh.tangents.size() != vertex_count)
+    throw SceneError(detail::located(where, name + " has " + std::to_string(mesh.tangents.size()) + " tangents for " +
+                                                std::to_string(vertex_count) + " vertices"));
   check_positions_finite(mesh, where);
   for (std::size_t v = 0; v < mesh.normals.size(); ++v)
     if (!detail::finite(mesh.normals[v]))
@@ -95,6 +98,9 @@ inline void check_mesh(const Mesh& mesh, std::string_view where = {}) {
   for (std::size_t v = 0; v < mesh.uvs.size(); ++v)
     if (!std::isfinite(mesh.uvs[v].x) || !std::isfinite(mesh.uvs[v].y))
       throw SceneError(detail::located(where, name + " vertex " + std::to_string(v) + " has a non-finite uv"));
+  for (std::size_t v = 0; v < mesh.tangents.size(); ++v)
+    if (!detail::finite(glm::vec3(mesh.tangents[v])) || !std::isfinite(mesh.tangents[v].w))
+      throw SceneError(detail::located(where, name + " vertex " + std::to_string(v) + " has a non-finite tangent"));
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
     for (int corner = 0; corner < 3; ++corner)
       if (mesh.triangles[t][corner] >= vertex_count)

@@ -29,9 +29,9 @@
 /// - emission = emissiveFactor x strength x emissive texture, on front faces (both faces if
 ///   the material is double-sided), matching how the light sampler emits;
 /// - the normal is the interpolated shading normal, tilted by the normal texture where there is
-///   one (normal_mapped). Its tangent frame comes from each triangle's uvs, not from TANGENT
-///   attributes: on a curved mesh the tilt's direction can step from triangle to triangle where
-///   per-vertex tangents would blend.
+///   one (normal_mapped). Its tangent frame is the mesh's TANGENT attribute, interpolated,
+///   where it has one (as the maps were baked); otherwise each triangle's uvs give it, and on a
+///   curved mesh the tilt's direction can then step from triangle to triangle.
 /// Each texture is read through its KHR_texture_transform (identity without one). Only TEXCOORD_0
 /// reaches shading; a texture on another set is read with TEXCOORD_0 (the loader warns).
 

@@ -17,8 +17,10 @@ struct SurfaceHit {
   vec3<W> shading_normal;    ///< Unit interpolated vertex normal, in the hemisphere of geometric_normal.
   vec3<W> wo;                ///< Unit direction from the hit back towards the ray origin.
   vfloat<W> u, v;            ///< Texture coordinates (TEXCOORD_0), 0 without them.
-  vec3<W> dpdu;              ///< World-space derivative of the position along u (normal maps' tangent); 0 without texture coordinates.
-  vec3<W> dpdv;              ///< World-space derivative of the position along v; 0 without texture coordinates.
+  /// World-space derivative of the position along u (normal maps' tangent), turned along the mesh's
+  /// TANGENT where it has one; 0 without texture coordinates or tangents.
+  vec3<W> dpdu;
+  vec3<W> dpdv;  ///< Likewise along v (against the TANGENT's bitangent where there is one).
   /// Width of the ray's footprint at the hit in texture coordinates: its cone's width there,
   /// spread over the surface (over sqrt of the cosine to wo: the same area as the slanted
   /// ellipse), times the triangle's texture coordinates per unit of length. 0 for a ray without

@@ -94,6 +94,12 @@ struct PacketMatrices {
   }
   /// Object-space points to world space.
   vec3<W> point(const vec3<W>& p) const noexcept { return column[0] * p.x + column[1] * p.y + column[2] * p.z + column[3]; }
+  /// Object-space directions (tangents) to world space: the linear part alone.
+  vec3<W> direction(const vec3<W>& v) const noexcept { return column[0] * v.x + column[1] * v.y + column[2] * v.z; }
+  /// -1 where the transform mirrors (negative determinant), else 1.
+  vfloat<W> handedness() const noexcept {
+    return select(dot(column[0], cross(column[1], column[2])) < vfloat<W>(0.0f), vfloat<W>(-1.0f), vfloat<W>(1.0f));
+  }
   /// Object-space normals to world space (not normalised).
   vec3<W> normal(const vec3<W>& n) const noexcept {
     return normal_column[0] * n.x + normal_column[1] * n.y + normal_column[2] * n.z;
@@ -113,8 +119,9 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
   // Gather the object-space triangle, its vertex normals and uvs lane by lane (scalar: the data
   // are scattered over meshes), then transform and do the vector algebra on packets. A packet
   // nearly always hits one instance, whose matrices are then broadcast instead of gathered.
-  vec3<W> p0, p1, p2, interpolated_normal;
-  vfloat<W> tex_u, tex_v;
+  vec3<W> p0, p1, p2, interpolated_normal, interpolated_tangent;
+  vfloat<W> tex_u, tex_v, tangent_sign;
+  vmask<W> tangent_lanes;  // lanes whose triangle has three usable TANGENTs
   vfloat<W> du1, dv1, du2, dv2;  // the triangle's edges p1 - p0 and p2 - p0 in texture coordinates
   const int first_lane = [&] {
     for (int i = 0; i < W; ++i)
@@ -148,6 +155,14 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
       dv1.set(i, e1.y);
       du2.set(i, e2.x);
       dv2.set(i, e2.y);
+    }
+    if (mesh.tangents.size() == mesh.positions.size()) {
+      const glm::vec4 t0 = mesh.tangents[triangle.x], t1 = mesh.tangents[triangle.y], t2 = mesh.tangents[triangle.z];
+      if (t0.w != 0.0f && t1.w != 0.0f && t2.w != 0.0f) {  // w is 0 only for a tangent the loader found unusable
+        interpolated_tangent.set(i, b0 * glm::vec3(t0) + b1 * glm::vec3(t1) + b2 * glm::vec3(t2));
+        tangent_sign.set(i, t0.w);
+        tangent_lanes.set(i, true);
+      }
     }
     hit.material.set(i, mesh.material);
     hit.mesh.set(i, std::int32_t(mesh_id));
@@ -204,6 +219,20 @@ SurfaceHit<W> build_surface_hit(const Scene& scene, std::size_t instance_count, 
   const vfloat<W> inverse_determinant = keep(vfloat<W>(1.0f) / select(mapped, uv_determinant, vfloat<W>(1.0f)), mapped);
   hit.dpdu = keep((edge1 * dv2 - edge2 * dv1) * inverse_determinant, mapped);
   hit.dpdv = keep((edge2 * du1 - edge1 * du2) * inverse_determinant, mapped);
+  // Where the mesh has TANGENTs, they are the normal maps' frame (glTF: bitangent = w cross(n, t),
+  // turned by a mirroring instance): dpdu along the tangent, dpdv against the bitangent (the map's
+  // +y, which normal_mapped takes against dpdv), each as long as the uv derivative it replaces (1
+  // where the uvs give none), so that a texture transform mixes them as it mixes the derivatives.
+  if (any(tangent_lanes & active)) {
+    const vec3<W> tangent = normalize(to_world.direction(interpolated_tangent));
+    const vec3<W> vertex_normal = normalize(interpolated_normal);
+    const vmask<W> framed = tangent_lanes & active & (length_squared(tangent) > vfloat<W>(0.0f)) &
+                            (length_squared(vertex_normal) > vfloat<W>(0.0f));
+    const vec3<W> bitangent = cross(vertex_normal, tangent) * (tangent_sign * to_world.handedness());
+    const vfloat<W> one(1.0f);
+    hit.dpdu = select(framed, tangent * select(mapped, length(hit.dpdu), one), hit.dpdu);
+    hit.dpdv = select(framed, -bitangent * select(mapped, length(hit.dpdv), one), hit.dpdv);
+  }
   if (cone_spread > 0.0f) {
     const vfloat<W> uv_area = abs(uv_determinant);  // twice the triangle's area in texture coordinates
     // The cone's width at the hit, over the surface: its cross-section's area grows by 1 / cos

@@ -360,6 +360,7 @@ class Loader {
 
     with_file([&] { validate_mesh(mesh, diagnostics_.warnings, diagnostics_.file.string()); });
     read_normals(primitive, label, mesh);
+    read_tangents(primitive, label, mesh);
     scene_.meshes.push_back(std::move(mesh));
     return int(scene_.meshes.size()) - 1;
   }
@@ -424,6 +425,34 @@ class Loader {
     }
     if (repaired > 0)
       warn(label + ": " + std::to_string(repaired) + " zero or non-finite normals replaced by area-weighted ones");
+  }
+
+  /// TANGENT (float, or normalized byte or short under KHR_mesh_quantization): xyz normalized, w
+  /// reduced to its sign. Zero or non-finite tangents are left all zero (those vertices' normal
+  /// maps take the uv frame) and counted in a warning.
+  void read_tangents(const tinygltf::Primitive& primitive, const std::string& label, Mesh& mesh) const {
+    const auto found = primitive.attributes.find("TANGENT");
+    if (found == primitive.attributes.end()) return;
+    const std::size_t vertex_count = mesh.positions.size();
+    const std::vector<float> values =
+        accessors_.read_floats(found->second, 4,
+                               {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT},
+                               mesh.name + " TANGENT");
+    if (values.size() / 4 != vertex_count)
+      fail(label + ": TANGENT has " + std::to_string(values.size() / 4) + " elements for " + std::to_string(vertex_count) +
+           " positions");
+    mesh.tangents.assign(vertex_count, glm::vec4(0.0f));
+    std::size_t unusable = 0;
+    for (std::size_t v = 0; v < vertex_count; ++v) {
+      const glm::vec3 tangent(values[4 * v], values[4 * v + 1], values[4 * v + 2]);
+      const float length = glm::length(tangent), sign = values[4 * v + 3];
+      if (std::isfinite(length) && length > 0.0f && std::isfinite(sign))
+        mesh.tangents[v] = glm::vec4(tangent / length, sign < 0.0f ? -1.0f : 1.0f);
+      else
+        ++unusable;
+    }
+    if (unusable > 0)
+      warn(label + ": " + std::to_string(unusable) + " zero or non-finite tangents; normal maps use the uv frame there");
   }
 
   /// `n` normalized, or +Y for a zero vector (a vertex of no triangle with area: never shaded, but must be unit).
