@@ -197,8 +197,10 @@ def shading_table(r):
     widths = [("embree", 1), ("embree", 4), ("embree", 8), ("embree", 16), ("saarcor", 64)]
     rows = []
     for scene in SCENES:
-        for mode, label in (("shadow", "with shadow rays"), ("no_shadow", "shading only")):
-            rates = {w: get(r, f"shading/{scene}/{backend}/{w}/{mode}", "items_per_second") for backend, w in widths}
+        for name, label in (("shading/{scene}/{backend}/{w}/shadow", "with shadow rays"),
+                            ("shading/{scene}/{backend}/{w}/no_shadow", "shading only"),
+                            ("surface/{scene}/{backend}/{w}", "surface shader alone (M hit points/s)")):
+            rates = {w: get(r, name.format(scene=scene, backend=backend, w=w), "items_per_second") for backend, w in widths}
             if all(v is None for v in rates.values()):
                 continue
             base = rates[1]

@@ -1,7 +1,8 @@
 // Packet against single-ray shading, the paper's claim that SIMD packets pay off in shading too:
 // the pipeline's VPL shading step - connect a hit point to a VPL, trace the shadow ray, evaluate
 // the BRDF - run by the library's own code at packet widths W = 1, 4, 8, 16 (Embree) and 64 (SaarCOR), with and without the shadow rays.
-// W = 1 is the same code at width 1: the paper's "single ray".
+// W = 1 is the same code at width 1: the paper's "single ray". `surface/…` times the surface
+// shader (glTF materials, textures read at the pixels' footprints) alone over the same hit points.
 //
 //   shading_bench [--smoke] [--scenes=DIR] --benchmark_format=json
 //
@@ -119,7 +120,10 @@ std::unique_ptr<ShadingPoints<B>> make_points(const SceneFrame& scene_frame) {
         hits.clear();
         points->backend->intersect(rays, hits, active);
         const vmask<W> hit = active & hits.valid();
-        points->surfaces.push_back(make_surface_hit(scene, context.geometry, rays, hits, hit));
+        // The camera rays' cones, as the pipeline's first level makes them, so textures are read at
+        // the pixels' footprints (aa 1).
+        points->surfaces.push_back(make_surface_hit(scene, context.geometry, rays, hits, hit,
+                                                    context.texture_cone_scale * context.projection->pixel_spread()));
         points->parameters.push_back(surface.shade(points->surfaces.back(), hit));
         points->hit.push_back(hit);
         points->hit_points += popcount(hit);
@@ -197,15 +201,30 @@ void shade_all(const ShadingPoints<B>& points, const FrameState& context, const 
   }
 }
 
+/// The frame of `scene_name`, or null with the benchmark skipped and the reason given.
+SceneFrame* scene_frame_or_skip(benchmark::State& state, const std::string& scene_name) {
+  std::string why;
+  SceneFrame* scene_frame = scene_frame_of(scene_name, why);
+  if (!scene_frame) state.SkipWithError(("skipped: " + why).c_str());
+  return scene_frame;
+}
+
+/// Reports `items` per iteration over the benchmark's `seconds` of CPU time, and (for `mode`,
+/// "scene/what") the rate's speed-up over W = 1's, which W = 1 records when it runs first.
+template <class B>
+void count_items(benchmark::State& state, const std::string& mode, std::int64_t items, double seconds) {
+  state.SetItemsProcessed(state.iterations() * items);
+  const double rate = seconds > 0.0 ? double(state.iterations() * items) / seconds : 0.0;
+  if (B::width == 1 && std::string(B::name()) == "embree") single_ray_rates()[mode] = rate;
+  if (auto found = single_ray_rates().find(mode); found != single_ray_rates().end() && found->second > 0.0)
+    state.counters["speedup_over_w1"] = rate / found->second;
+}
+
 /// The benchmark: shade every hit point of `scene_name` with its 16 VPLs at width B::width.
 template <class B>
 void shading(benchmark::State& state, const std::string& scene_name, bool shadows) {
-  std::string why;
-  SceneFrame* scene_frame = scene_frame_of(scene_name, why);
-  if (!scene_frame) {
-    state.SkipWithError(("skipped: " + why).c_str());
-    return;
-  }
+  SceneFrame* scene_frame = scene_frame_or_skip(state, scene_name);
+  if (!scene_frame) return;
   const ShadingPoints<B>& points = points_for<B>(scene_name, *scene_frame);
   const StandardBrdf brdf;
   std::vector<VplAccumulator<B::width>> light;
@@ -213,14 +232,27 @@ void shading(benchmark::State& state, const std::string& scene_name, bool shadow
   const double start = thread_cpu_seconds();
   for (auto _ : state) shade_all(points, scene_frame->frame, brdf, shadows, light, receivers);
   const double seconds = thread_cpu_seconds() - start;
-  state.SetItemsProcessed(state.iterations() * points.samples);
   state.counters["hit_points"] = double(points.hit_points);
   state.counters["shadow_rays"] = shadows ? 1.0 : 0.0;
-  const double rate = seconds > 0.0 ? double(state.iterations() * points.samples) / seconds : 0.0;
-  const std::string mode = scene_name + (shadows ? "/shadow" : "/no_shadow");
-  if (B::width == 1 && std::string(B::name()) == "embree") single_ray_rates()[mode] = rate;
-  if (auto found = single_ray_rates().find(mode); found != single_ray_rates().end() && found->second > 0.0)
-    state.counters["speedup_over_w1"] = rate / found->second;
+  count_items<B>(state, scene_name + (shadows ? "/shadow" : "/no_shadow"), points.samples, seconds);
+}
+
+/// The surface shader alone: the glTF material shader over every hit packet of the view (the
+/// pipeline's step 3 after make_surface_hit), hit points per CPU second.
+template <class B>
+void surface_shading(benchmark::State& state, const std::string& scene_name) {
+  SceneFrame* scene_frame = scene_frame_or_skip(state, scene_name);
+  if (!scene_frame) return;
+  const ShadingPoints<B>& points = points_for<B>(scene_name, *scene_frame);
+  const GltfMaterialShader surface(*scene_frame->scene);  // its mip chains built before the timing
+  const double start = thread_cpu_seconds();
+  for (auto _ : state)
+    for (std::size_t p = 0; p < points.surfaces.size(); ++p) {
+      BrdfParameters<B::width> parameters = surface.shade(points.surfaces[p], points.hit[p]);
+      benchmark::DoNotOptimize(parameters);
+    }
+  const double seconds = thread_cpu_seconds() - start;
+  count_items<B>(state, scene_name + "/surface", points.hit_points, seconds);
 }
 
 /// Registers one benchmark pair (with and without shadow rays) of backend B on `scene`.
@@ -232,6 +264,9 @@ void register_pair(const std::string& scene) {
                                      .c_str(),
                                  [scene, shadows](benchmark::State& state) { shading<B>(state, scene, shadows); })
         ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark(("surface/" + scene + "/" + B::name() + "/" + std::to_string(B::width)).c_str(),
+                               [scene](benchmark::State& state) { surface_shading<B>(state, scene); })
+      ->Unit(benchmark::kMillisecond);
 }
 
 /// Registers every scene's benchmarks, width by width in the list's order (W = 1 first: the

@@ -705,3 +705,142 @@ TEST_CASE("GltfMaterialShader: no material reflects more than it receives", "[sh
     }
   }
 }
+
+namespace {
+
+/// Lane `i` of `hit` as a one-lane packet.
+template <int From>
+SurfaceHit<1> lane_of(const SurfaceHit<From>& hit, int i) {
+  SurfaceHit<1> one;
+  one.position.set(0, hit.position[i]);
+  one.geometric_normal.set(0, hit.geometric_normal[i]);
+  one.shading_normal.set(0, hit.shading_normal[i]);
+  one.wo.set(0, hit.wo[i]);
+  one.u.set(0, hit.u[i]);
+  one.v.set(0, hit.v[i]);
+  one.dpdu.set(0, hit.dpdu[i]);
+  one.dpdv.set(0, hit.dpdv[i]);
+  one.texture_footprint.set(0, hit.texture_footprint[i]);
+  one.distance.set(0, hit.distance[i]);
+  one.material.set(0, hit.material[i]);
+  one.mesh.set(0, hit.mesh[i]);
+  one.instance.set(0, hit.instance[i]);
+  one.triangle.set(0, hit.triangle[i]);
+  one.front_face.set(0, hit.front_face[i]);
+  return one;
+}
+
+/// A `size` x `size` texture of pseudo-random texels.
+Texture noise_texture(int size, bool srgb, std::mt19937& random) {
+  Texture t{.name = "noise", .width = size, .height = size, .srgb = srgb};
+  t.texels.resize(std::size_t(size) * std::size_t(size) * 4);
+  for (std::uint8_t& c : t.texels) c = std::uint8_t(random() % 256);
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("GltfMaterialShader: a packet's lanes shade as each does alone, whatever the materials, levels and masks",
+          "[shading][gltf]") {
+  // The shader runs one material's lanes together, each lane reading its own mip levels: every
+  // lane of a 16-lane packet mixing materials, footprints, faces and inactive lanes must equal
+  // the same hit shaded in a packet of one (to float rounding: the compiler may fuse a multiply
+  // and an add in one width and not the other).
+  std::mt19937 random(7);
+  Scene scene;
+  scene.textures.push_back(noise_texture(64, true, random));   // 0: base colour with alpha
+  scene.textures.push_back(noise_texture(16, false, random));  // 1: metallic-roughness
+  scene.textures.push_back(noise_texture(32, false, random));  // 2: normals
+  scene.textures.push_back(noise_texture(8, false, random));   // 3: specular (alpha)
+  scene.textures.push_back(noise_texture(128, true, random));  // 4: emission, specular colour
+  for (int m = 0; m < 3; ++m) {
+    Mesh mesh;
+    mesh.material = m == 2 ? -1 : m;  // mesh 2 has the default material
+    scene.meshes.push_back(mesh);
+  }
+  const UvTransform turned = UvTransform::from({0.3f, -0.2f}, 0.4f, {1.5f, 0.75f});
+  Material cutout{.name = "cutout", .base_color = {0.9f, 0.8f, 0.7f, 1.0f}, .base_color_texture = 0, .metallic = 0.0f};
+  cutout.alpha_mode = AlphaMode::mask;
+  cutout.base_color_transform = turned;
+  Material metal{.name = "metal", .base_color = {1.0f, 0.7f, 0.4f, 1.0f}, .metallic = 1.0f, .roughness = 0.8f};
+  metal.metallic_roughness_texture = 1;
+  metal.normal_texture = 2;
+  metal.normal_transform = turned;
+  Material varnish{.name = "varnish", .base_color_texture = 0, .metallic = 0.0f, .roughness = 0.3f};
+  varnish.specular_texture = 3;
+  varnish.specular_color_texture = 4;
+  varnish.normal_texture = 2;
+  varnish.normal_scale = 0.5f;
+  Material lamp{.name = "lamp", .base_color = {1, 1, 1, 1}, .metallic = 0.0f, .emission = {2, 3, 4}};
+  lamp.emissive_texture = 4;
+  lamp.emissive_transform = turned;
+  Material shiny{.name = "shiny", .base_color = {0.5f, 0.5f, 0.5f, 1.0f}, .metallic = 0.5f, .roughness = 0.05f};
+  shiny.metallic_roughness_texture = 1;
+  for (const Material& m : {cutout, metal, varnish, lamp, shiny}) scene.materials.push_back(m);
+  const GltfMaterialShader shader(scene);
+
+  constexpr int Wide = 16;
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const auto direction = [&] {
+    const float z = 2.0f * unit(random) - 1.0f, phi = 6.2831853f * unit(random), r = std::sqrt(1.0f - z * z);
+    return glm::vec3(r * std::cos(phi), r * std::sin(phi), z);
+  };
+  const float nan = std::numeric_limits<float>::quiet_NaN(), infinity = std::numeric_limits<float>::infinity();
+  int compared = 0, minified = 0;
+  for (int round = 0; round < 200; ++round) {
+    SurfaceHit<Wide> hit;
+    vmask<Wide> mask;
+    // Half the packets on one material, as most of a frame's are; the rest mixed.
+    const int shared_material = round % 2 == 0 ? int(random() % 6) - 1 : -2;
+    for (int i = 0; i < Wide; ++i) {
+      const glm::vec3 normal = direction();
+      glm::vec3 wo = direction();
+      if (glm::dot(wo, normal) < 0.0f) wo = -wo;
+      hit.geometric_normal.set(i, normal);
+      hit.shading_normal.set(i, normal);
+      hit.wo.set(i, wo);
+      const int kind = int(random() % 16);
+      hit.u.set(i, kind == 0 ? nan : kind == 1 ? infinity : 6.0f * unit(random) - 3.0f);
+      hit.v.set(i, kind == 2 ? -infinity : 6.0f * unit(random) - 3.0f);
+      hit.dpdu.set(i, kind == 3 ? glm::vec3(0.0f) : direction() * (0.1f + unit(random)));
+      hit.dpdv.set(i, direction() * (0.1f + unit(random)));
+      // Footprints from well below a texel to wider than the largest texture, and the odd ones.
+      const float footprint = std::exp2(-12.0f + 14.0f * unit(random));
+      hit.texture_footprint.set(i, kind == 4 ? 0.0f : kind == 5 ? nan : kind == 6 ? infinity : footprint);
+      const int material = shared_material != -2 ? shared_material : int(random() % 6) - 1;
+      hit.material.set(i, material);
+      hit.mesh.set(i, material == -1 ? 2 : int(random() % 2));
+      hit.front_face.set(i, random() % 4 != 0);
+      mask.set(i, random() % 8 != 0);
+    }
+    const BrdfParameters<Wide> packet = shader.shade(hit, mask);
+    for (int i = 0; i < Wide; ++i) {
+      INFO("round " << round << ", lane " << i << ", material " << hit.material[i] << ", footprint " << hit.texture_footprint[i]);
+      if (!mask[i]) {
+        CHECK(packet.albedo[i] == glm::vec3(0.0f));
+        CHECK(packet.normal[i] == glm::vec3(0.0f));
+        CHECK(packet.emission[i] == glm::vec3(0.0f));
+        CHECK_FALSE(packet.opaque[i]);
+        continue;
+      }
+      const BrdfParameters<1> alone = shader.shade(lane_of(hit, i), vmask<1>(true));
+      // 1e-5: a few float roundings of values up to 4 (the lamp's emission), where one fused
+      // multiply-add more or less changes the last bits.
+      const auto near = [](const glm::vec3& a, const glm::vec3& b) { return glm::length(a - b) <= 1e-5f * (1.0f + glm::length(b)); };
+      CHECK(near(packet.albedo[i], alone.albedo[0]));
+      CHECK(near(packet.glossy[i], alone.glossy[0]));
+      CHECK(near(packet.mirror[i], alone.mirror[0]));
+      CHECK(near(packet.normal[i], alone.normal[0]));
+      CHECK(near(packet.emission[i], alone.emission[0]));
+      CHECK(packet.shininess[i] == Approx(alone.shininess[0]).epsilon(1e-5));
+      CHECK(packet.transmission[i] == alone.transmission[0]);
+      CHECK(packet.ior[i] == alone.ior[0]);
+      CHECK(packet.opaque[i] == alone.opaque[0]);
+      CHECK(std::abs(glm::length(packet.normal[i]) - 1.0f) < 1e-5f);
+      ++compared;
+      minified += std::isfinite(hit.texture_footprint[i]) && hit.texture_footprint[i] > 1.0f / 32.0f ? 1 : 0;
+    }
+  }
+  CHECK(compared > 2000);
+  CHECK(minified > 500);
+}

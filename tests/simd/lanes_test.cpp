@@ -364,6 +364,31 @@ TEMPLATE_TEST_CASE_SIG("lanes: gather reads active lanes only and zeroes the res
   CHECK(none(gather(table.data(), wild, vmask<W>(false)) != vfloat<W>(0.0f)));
 }
 
+TEMPLATE_TEST_CASE_SIG("lanes: gather_every reads every lane, as the scalar loop does, and bytes as words", "[simd][lanes]",
+                       ((int W), W), 1, 4, 8, 16, 64) {
+  // Hardware gathers with AVX2 and AVX-512, loads lane by lane below: both must give every
+  // lane its element, including the table's first and last (gathers take the index signed).
+  std::vector<float> table(4 * W + 3);
+  for (std::size_t k = 0; k < table.size(); ++k) table[k] = 0.25f * static_cast<float>(k) - 3.0f;
+  std::vector<std::int32_t> int_table(table.size());
+  for (std::size_t k = 0; k < int_table.size(); ++k) int_table[k] = static_cast<std::int32_t>(k * 7919) - 100000;
+  const int last = static_cast<int>(table.size()) - 1;
+  const vint<W> index([&](int i) { return i == 0 ? last : i == W - 1 ? 0 : (i * 13 + 5) % last; });
+  const vfloat<W> gathered = gather_every(table.data(), index);
+  const vint<W> int_gathered = gather_every(int_table.data(), index);
+  for (int i = 0; i < W; ++i) {
+    INFO("lane " << i);
+    CHECK(gathered[i] == table[static_cast<std::size_t>(index[i])]);
+    CHECK(int_gathered[i] == int_table[static_cast<std::size_t>(index[i])]);
+  }
+  // RGBA8 texels read as 32-bit words: byte k of word i is texel i's channel k (x86's byte order).
+  std::vector<std::uint8_t> texels(4 * static_cast<std::size_t>(W));
+  for (std::size_t k = 0; k < texels.size(); ++k) texels[k] = static_cast<std::uint8_t>(k * 37 + 11);
+  const vint<W> words = gather_every(reinterpret_cast<const std::int32_t*>(texels.data()), lane_index<W>());
+  for (int i = 0; i < W; ++i)
+    for (int k = 0; k < 4; ++k) CHECK(((words[i] >> (8 * k)) & 0xff) == texels[static_cast<std::size_t>(4 * i + k)]);
+}
+
 TEST_CASE("lanes: one native packet is one float and one int register of the build's ISA", "[simd][lanes]") {
   constexpr int W = native_packet_width;
   STATIC_REQUIRE(vfloat<W>::chunks == 1);

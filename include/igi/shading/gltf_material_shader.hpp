@@ -34,8 +34,12 @@
 ///   curved mesh the tilt's direction can then step from triangle to triangle.
 /// Each texture is read through its KHR_texture_transform (identity without one). Only TEXCOORD_0
 /// reaches shading; a texture on another set is read with TEXCOORD_0 (the loader warns).
+///
+/// The shader works on packets: the lanes on one material are shaded together (a packet of
+/// neighbouring pixels mostly holds one or two materials), each lane reading its own mip levels.
 
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -47,48 +51,56 @@
 
 #include "igi/backends/backend.hpp"
 #include "igi/scene/scene.hpp"
-#include "igi/shading/scalar_shader_adapter.hpp"
+#include "igi/shading/surface_hit.hpp"
 #include "igi/shading/texture_sampling.hpp"
 
 namespace igi {
 
-/// `chain` read at `point`'s texture coordinates as `transform` maps them (KHR_texture_transform),
-/// at the hit's footprint widened alike.
-[[gnu::always_inline]] inline glm::vec4 sample_transformed(const TextureMips& chain, const UvTransform& transform,
-                                                           const SurfacePoint& point) {
-  return sample_filtered(chain, transform.apply(point.uv), point.texture_footprint * transform.footprint_scale());
+/// `chain` read at the hit's texture coordinates as `transform` maps them (KHR_texture_transform),
+/// at the hit's footprint widened alike, on the lanes of `mask` (zero elsewhere).
+template <int W>
+inline TexelPacket<W> sample_transformed(const TextureMips& chain, const UvTransform& transform,
+                                                                const SurfaceHit<W>& hit, const vmask<W>& mask) noexcept {
+  const glm::mat3x2& m = transform.matrix;
+  const vfloat<W> u = vfloat<W>(m[0].x) * hit.u + vfloat<W>(m[1].x) * hit.v + vfloat<W>(m[2].x);
+  const vfloat<W> v = vfloat<W>(m[0].y) * hit.u + vfloat<W>(m[1].y) * hit.v + vfloat<W>(m[2].y);
+  return sample_filtered(chain, u, v, hit.texture_footprint * vfloat<W>(transform.footprint_scale()), mask);
 }
 
-/// The shading normal at `point` tilted by the normal texture `chain` (glTF normalTexture, linear,
-/// read through `transform` at the hit's footprint), its x and y scaled by `scale`. The tangent
-/// frame: x along dp/du' (u' the transformed coordinate) made perpendicular to the normal, y = normal x tangent turned to point along -dp/dv (glTF's
-/// maps have +y up in the image, against v), so mirrored texture coordinates keep the relief. It is
-/// built on the front face's normal and the result turned with it on a back face, as glTF flips a
-/// double-sided material's normal there. Without a frame (no texture coordinates, or uvs that span
-/// no area) or for a texel that gives no direction, the shading normal stays.
-[[gnu::always_inline]] inline glm::vec3 normal_mapped(const TextureMips& chain, float scale, const UvTransform& transform,
-                                                      const SurfacePoint& point) {
-  const float side = point.front_face ? 1.0f : -1.0f;
-  const glm::vec3 normal = point.shading_normal * side;
-  // (dp/du', dp/dv') = (dp/du, dp/dv) A^-1 for the transform's linear part A.
+/// The shading normal tilted by the normal texture `chain` (glTF normalTexture, linear, read
+/// through `transform` at the hit's footprint), its x and y scaled by `scale`, on the lanes of
+/// `mask`. The tangent frame: x along dp/du' (u' the transformed coordinate) made perpendicular
+/// to the normal, y = normal x tangent turned to point along -dp/dv (glTF's maps have +y up in
+/// the image, against v), so mirrored texture coordinates keep the relief. It is built on the
+/// front face's normal and the result turned with it on a back face, as glTF flips a
+/// double-sided material's normal there. Without a frame (no texture coordinates, or uvs that
+/// span no area) or for a texel that gives no direction, the shading normal stays.
+template <int W>
+inline vec3<W> normal_mapped(const TextureMips& chain, float scale, const UvTransform& transform,
+                                                    const SurfaceHit<W>& hit, const vmask<W>& mask) noexcept {
+  // (dp/du', dp/dv') = (dp/du, dp/dv) A^-1 for the transform's linear part A, one per material.
   const glm::mat2 linear(transform.matrix[0], transform.matrix[1]);
   const float determinant = glm::determinant(linear);
-  if (!(determinant != 0.0f) || !std::isfinite(determinant)) return point.shading_normal;
+  if (!(determinant != 0.0f) || !std::isfinite(determinant)) return hit.shading_normal;
   const glm::mat2 inverse = glm::inverse(linear);
-  const glm::vec3 dpdu = point.dpdu * inverse[0].x + point.dpdv * inverse[0].y;
-  const glm::vec3 dpdv = point.dpdu * inverse[1].x + point.dpdv * inverse[1].y;
-  glm::vec3 tangent = dpdu - normal * glm::dot(normal, dpdu);
-  const float tangent_length2 = glm::dot(tangent, tangent);
-  if (!(tangent_length2 > 0.0f) || !std::isfinite(tangent_length2)) return point.shading_normal;
-  tangent /= std::sqrt(tangent_length2);
-  glm::vec3 bitangent = glm::cross(normal, tangent);
-  if (glm::dot(bitangent, dpdv) > 0.0f) bitangent = -bitangent;
-  const glm::vec4 texel = sample_transformed(chain, transform, point);
-  const glm::vec3 tilted = tangent * ((2.0f * texel.x - 1.0f) * scale) + bitangent * ((2.0f * texel.y - 1.0f) * scale) +
-                           normal * (2.0f * texel.z - 1.0f);
-  const float length2 = glm::dot(tilted, tilted);
-  if (!(length2 > 0.0f) || !std::isfinite(length2)) return point.shading_normal;
-  return tilted * (side / std::sqrt(length2));
+  const vfloat<W> side = select(hit.front_face, vfloat<W>(1.0f), vfloat<W>(-1.0f));
+  const vec3<W> normal = hit.shading_normal * side;
+  const vec3<W> dpdu = hit.dpdu * vfloat<W>(inverse[0].x) + hit.dpdv * vfloat<W>(inverse[0].y);
+  const vec3<W> dpdv = hit.dpdu * vfloat<W>(inverse[1].x) + hit.dpdv * vfloat<W>(inverse[1].y);
+  vec3<W> tangent = dpdu - normal * dot(normal, dpdu);
+  const vfloat<W> tangent_length2 = dot(tangent, tangent);
+  const vmask<W> framed = mask & (tangent_length2 > vfloat<W>(0.0f)) & isfinite(tangent_length2);
+  if (none(framed)) return hit.shading_normal;
+  tangent = tangent * (vfloat<W>(1.0f) / sqrt(select(framed, tangent_length2, vfloat<W>(1.0f))));
+  vec3<W> bitangent = cross(normal, tangent);
+  bitangent = select(dot(bitangent, dpdv) > vfloat<W>(0.0f), -bitangent, bitangent);
+  const TexelPacket<W> texel = sample_transformed(chain, transform, hit, framed);
+  const vfloat<W> one(1.0f), two(2.0f), scaled(scale);
+  const vec3<W> tilted = tangent * ((two * texel.r - one) * scaled) + bitangent * ((two * texel.g - one) * scaled) +
+                         normal * (two * texel.b - one);
+  const vfloat<W> length2 = dot(tilted, tilted);
+  const vmask<W> usable = framed & (length2 > vfloat<W>(0.0f)) & isfinite(length2);
+  return select(usable, tilted * (side / sqrt(select(usable, length2, one))), hit.shading_normal);
 }
 
 /// Schlick's Fresnel reflectance from `f0` at normal incidence, rising towards 1 at grazing, for a
@@ -98,83 +110,115 @@ namespace igi {
 /// taken at the lobe's axis, exact for a mirror and for the peak of a lobe; a rough lobe's light
 /// comes mostly from off its peak, where the half vector is steeper and the reflectance lower,
 /// hence the damping (a roughness-1 surface keeps f0 at every angle).
-[[gnu::always_inline]] inline glm::vec3 rough_fresnel(const glm::vec3& f0, float roughness, float cosine) {
-  const float x = 1.0f - std::clamp(cosine, 0.0f, 1.0f);
-  const float x2 = x * x;
-  return f0 + (glm::max(glm::vec3(1.0f - roughness), f0) - f0) * (x2 * x2 * x);
+template <int W>
+[[gnu::always_inline]] inline vec3<W> rough_fresnel(const vec3<W>& f0, const vfloat<W>& roughness, const vfloat<W>& cosine) noexcept {
+  const vfloat<W> x = vfloat<W>(1.0f) - clamp(cosine, vfloat<W>(0.0f), vfloat<W>(1.0f));
+  const vfloat<W> x2 = x * x;
+  const vfloat<W> smooth = vfloat<W>(1.0f) - roughness;
+  return f0 + (max(vec3<W>(smooth, smooth, smooth), f0) - f0) * (x2 * x2 * x);
 }
 
-/// Maps one hit on `material` to BRDF parameters (the mapping in this file's comment), its
-/// textures read from `mips` (one chain per Scene::textures entry) at the hit's footprint.
-// Always inlined into the shader's lane loop, with its texture lookups (see texture_sampling.hpp's mix_texels).
-[[gnu::always_inline]] inline ScalarBrdfParameters gltf_material_parameters(std::span<const TextureMips> mips,
-                                                                           const Material& material,
-                                                                           const SurfacePoint& point,
-                                                                           float mirror_roughness) {
-  glm::vec4 base = material.base_color;
+/// `value` limited to [0, 1] per channel.
+template <int W>
+[[gnu::always_inline]] inline vec3<W> saturate(const vec3<W>& value) noexcept {
+  const vfloat<W> zero(0.0f), one(1.0f);
+  return {clamp(value.x, zero, one), clamp(value.y, zero, one), clamp(value.z, zero, one)};
+}
+
+/// Maps the lanes of `mask`, all on `material`, to BRDF parameters (the mapping in this file's
+/// comment; other lanes zero), its textures read from `mips` (one chain per Scene::textures entry)
+/// at the hits' footprints. The normal is unit: a tilted normal that is zero or not finite
+/// falls back to the hit's shading normal.
+template <int W>
+inline BrdfParameters<W> gltf_material_parameters(std::span<const TextureMips> mips,
+                                                                        const Material& material, const SurfaceHit<W>& hit,
+                                                                        const vmask<W>& mask, float mirror_roughness) {
+  const vfloat<W> zero(0.0f), one(1.0f);
+  vec3<W> color(glm::vec3(material.base_color));
+  vfloat<W> alpha(material.base_color.a);
   if (material.base_color_texture >= 0) {
     const TextureMips& chain = mips[std::size_t(material.base_color_texture)];
-    glm::vec4 texture = sample_transformed(chain, material.base_color_transform, point);
+    const TexelPacket<W> texture = sample_transformed(chain, material.base_color_transform, hit, mask);
+    color = color * texture.rgb();
+    vfloat<W> texture_alpha = texture.a;
     // Cut-outs test the alpha at the ray's point: a filtered alpha would turn distant foliage
     // into solid sheets or nothing by its mean coverage, where point tests keep it on average.
-    if (material.alpha_mode == AlphaMode::mask && point.texture_footprint > 0.0f)
-      texture.a = sample_bilinear(chain.level(0), material.base_color_transform.apply(point.uv)).a;
-    base *= texture;
+    const vmask<W> point_alpha = mask & (hit.texture_footprint > zero);
+    if (material.alpha_mode == AlphaMode::mask && any(point_alpha)) {
+      const glm::mat3x2& m = material.base_color_transform.matrix;
+      const vfloat<W> u = vfloat<W>(m[0].x) * hit.u + vfloat<W>(m[1].x) * hit.v + vfloat<W>(m[2].x);
+      const vfloat<W> v = vfloat<W>(m[0].y) * hit.u + vfloat<W>(m[1].y) * hit.v + vfloat<W>(m[2].y);
+      texture_alpha = select(point_alpha, sample_bilinear(chain.level(0), u, v, point_alpha).a, texture_alpha);
+    }
+    alpha = alpha * texture_alpha;
   }
-  float metallic = material.metallic, roughness = material.roughness;
+  vfloat<W> metallic(material.metallic), roughness(material.roughness);
   if (material.metallic_roughness_texture >= 0) {
-    const glm::vec4 texture =
-        sample_transformed(mips[std::size_t(material.metallic_roughness_texture)], material.metallic_roughness_transform, point);
-    roughness *= texture.g;
-    metallic *= texture.b;
+    const TexelPacket<W> texture =
+        sample_transformed(mips[std::size_t(material.metallic_roughness_texture)], material.metallic_roughness_transform, hit, mask);
+    roughness = roughness * texture.g;
+    metallic = metallic * texture.b;
   }
-  metallic = std::clamp(metallic, 0.0f, 1.0f);
-  roughness = std::clamp(roughness, 0.0f, 1.0f);
+  metallic = clamp(metallic, zero, one);
+  roughness = clamp(roughness, zero, one);
   const float transmission = std::clamp(material.transmission, 0.0f, 1.0f);
-  const glm::vec3 color = glm::clamp(glm::vec3(base), glm::vec3(0.0f), glm::vec3(1.0f));
+  color = saturate(color);
 
-  ScalarBrdfParameters p;
-  p.ior = material.ior > 0.0f && std::isfinite(material.ior) ? material.ior : 1.5f;  // glTF's default ior
-  p.normal = material.normal_texture >= 0
-                 ? normal_mapped(mips[std::size_t(material.normal_texture)], material.normal_scale, material.normal_transform, point)
-                 : point.shading_normal;
-  const float cosine = glm::dot(p.normal, point.wo);
-  const float dielectric = (1.0f - metallic) * (1.0f - transmission);
+  BrdfParameters<W> p;
+  p.ior = vfloat<W>(material.ior > 0.0f && std::isfinite(material.ior) ? material.ior : 1.5f);  // glTF's default ior
+  const vec3<W> normal = material.normal_texture >= 0 ? normal_mapped(mips[std::size_t(material.normal_texture)], material.normal_scale,
+                                                                      material.normal_transform, hit, mask)
+                                                      : hit.shading_normal;
+  const vfloat<W> cosine = dot(normal, hit.wo);
+  const vfloat<W> dielectric = (one - metallic) * vfloat<W>(1.0f - transmission);
   // The dielectric part's specular layer (KHR_materials_specular, glTF's defaults without it).
-  float specular_weight = dielectric > 0.0f ? material.specular : 0.0f;
-  if (specular_weight > 0.0f && material.specular_texture >= 0)
-    specular_weight *= sample_transformed(mips[std::size_t(material.specular_texture)], material.specular_transform, point).a;
-  specular_weight = std::clamp(specular_weight, 0.0f, 1.0f);
-  glm::vec3 specular(0.0f);
+  vfloat<W> specular_weight = select(dielectric > zero, vfloat<W>(material.specular), zero);
+  if (material.specular > 0.0f && material.specular_texture >= 0)
+    specular_weight = specular_weight * sample_transformed(mips[std::size_t(material.specular_texture)], material.specular_transform,
+                                                           hit, mask & (specular_weight > zero))
+                                            .a;
+  specular_weight = clamp(specular_weight, zero, one);
+  vec3<W> specular;
   p.albedo = color * dielectric;
-  if (specular_weight > 0.0f) {
-    glm::vec3 specular_color = material.specular_color;
+  const vmask<W> layered = mask & (specular_weight > zero);
+  if (any(layered)) {
+    vec3<W> specular_color(material.specular_color);
     if (material.specular_color_texture >= 0)
-      specular_color *= glm::vec3(
-          sample_transformed(mips[std::size_t(material.specular_color_texture)], material.specular_color_transform, point));
-    const float ior_reflectance = (p.ior - 1.0f) * (p.ior - 1.0f) / ((p.ior + 1.0f) * (p.ior + 1.0f));
-    const glm::vec3 f0 = glm::clamp(ior_reflectance * specular_color, glm::vec3(0.0f), glm::vec3(1.0f));
-    const glm::vec3 fresnel = specular_weight * rough_fresnel(f0, roughness, cosine);
-    p.albedo *= 1.0f - std::max(fresnel.x, std::max(fresnel.y, fresnel.z));
+      specular_color = specular_color * sample_transformed(mips[std::size_t(material.specular_color_texture)],
+                                                           material.specular_color_transform, hit, layered)
+                                            .rgb();
+    const float ior = p.ior[0];
+    const float ior_reflectance = (ior - 1.0f) * (ior - 1.0f) / ((ior + 1.0f) * (ior + 1.0f));
+    const vec3<W> f0 = saturate(specular_color * vfloat<W>(ior_reflectance));
+    const vec3<W> fresnel = rough_fresnel(f0, roughness, cosine) * specular_weight;
+    // Zero where the weight is: albedo and specular stay as they are on those lanes.
+    p.albedo *= one - max(fresnel.x, max(fresnel.y, fresnel.z));
     specular = fresnel * dielectric;
   }
-  if (metallic > 0.0f) specular += rough_fresnel(color, roughness, cosine) * metallic;
-  if (roughness < mirror_roughness) {
-    p.mirror = specular;
-  } else {
-    p.glossy = specular;
-    const float alpha = roughness * roughness;
-    // Exponents above 1e4 are already mirror-like; the cap keeps pow() well away from overflow.
-    p.shininess = std::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 1e4f);
-  }
-  p.transmission = transmission * (1.0f - metallic);
-  if (point.front_face || material.double_sided) {
-    p.emission = material.emission;
+  if (any(mask & (metallic > zero))) specular += rough_fresnel(color, roughness, cosine) * metallic;
+  const vmask<W> mirror = roughness < vfloat<W>(mirror_roughness);
+  p.mirror = select(mirror, specular, vec3<W>());
+  p.glossy = select(mirror, vec3<W>(), specular);
+  const vfloat<W> lobe_width = roughness * roughness;
+  // Exponents above 1e4 are already mirror-like; the cap keeps pow() well away from overflow.
+  p.shininess = select(mirror, one, clamp(vfloat<W>(2.0f) / (lobe_width * lobe_width) - vfloat<W>(2.0f), one, vfloat<W>(1e4f)));
+  p.transmission = vfloat<W>(transmission) * (one - metallic);
+  const vmask<W> emitting = material.double_sided ? mask : mask & hit.front_face;
+  if (any(emitting)) {
+    vec3<W> emission(material.emission);
     if (material.emissive_texture >= 0)
-      p.emission *= glm::vec3(sample_transformed(mips[std::size_t(material.emissive_texture)], material.emissive_transform, point));
+      emission = emission * sample_transformed(mips[std::size_t(material.emissive_texture)], material.emissive_transform, hit, emitting).rgb();
+    p.emission = select(emitting, emission, vec3<W>());
   }
-  p.opaque = material.alpha_mode != AlphaMode::mask || base.a >= material.alpha_cutoff;
-  return p;
+  p.opaque = material.alpha_mode != AlphaMode::mask ? mask : mask & (alpha >= vfloat<W>(material.alpha_cutoff));
+  // A unit normal for the BRDF shader: the tilted one where it is usable, else the hit's.
+  const vfloat<W> length2 = dot(normal, normal);
+  const vmask<W> usable = (length2 > zero) & isfinite(length2);
+  p.normal = select(usable, normal * (one / sqrt(select(usable, length2, one))), hit.shading_normal);
+  // Inactive lanes yield zeros.
+  BrdfParameters<W> result;
+  result.assign(p, mask);
+  return result;
 }
 
 /// Surface shader for glTF materials: factors and textures of the hit's material.
@@ -205,16 +249,26 @@ class GltfMaterialShader {
   /// Policy name.
   static constexpr const char* name() noexcept { return "gltf"; }
 
-  /// BRDF parameters of the lanes of `mask`; other lanes zero. Throws std::out_of_range for a
-  /// material or mesh index the scene lacks.
+  /// BRDF parameters of the lanes of `mask`; other lanes zero. Lanes on one material are shaded
+  /// together, a packet per material it holds. Throws std::out_of_range for a material or mesh
+  /// index the scene lacks.
   template <int W>
   BrdfParameters<W> shade(const SurfaceHit<W>& hit, const vmask<W>& mask) const {
+    std::array<const Material*, W> materials{};
+    for (int i = 0; i < W; ++i)
+      if (mask[i]) materials[std::size_t(i)] = &material(hit.material[i], hit.mesh[i]);
+    vmask<W> left = mask;
     BrdfParameters<W> parameters;
-    for (int i = 0; i < W; ++i) {
-      if (!mask[i]) continue;
-      const SurfacePoint point = surface_point(hit, i);
-      set_lane(parameters, i, gltf_material_parameters(*mips_, material(point), point, mirror_roughness_),
-               point.shading_normal);
+    while (any(left)) {
+      int first = 0;
+      while (!left[first]) ++first;
+      const Material* shared = materials[std::size_t(first)];
+      vmask<W> same;
+      for (int i = first; i < W; ++i) same.set(i, left[i] && materials[std::size_t(i)] == shared);
+      const BrdfParameters<W> shaded = gltf_material_parameters(*mips_, *shared, hit, same, mirror_roughness_);
+      if (same == mask) return shaded;
+      parameters.assign(shaded, same);
+      left &= !same;
     }
     return parameters;
   }
@@ -247,14 +301,14 @@ class GltfMaterialShader {
   }
 
  private:
-  const Material& material(const SurfacePoint& point) const {
-    if (point.material >= int(scene_->materials.size()))
-      throw std::out_of_range("GltfMaterialShader: material " + std::to_string(point.material) +
-                              " is not in the scene");
-    if (point.material >= 0) return scene_->materials[std::size_t(point.material)];
-    if (point.mesh < 0 || point.mesh >= int(scene_->meshes.size()))
-      throw std::out_of_range("GltfMaterialShader: mesh " + std::to_string(point.mesh) + " is not in the scene");
-    return scene_->material_of(point.mesh);
+  /// The material of a hit on `mesh` whose material index is `index` (-1: the mesh's own).
+  const Material& material(int index, int mesh) const {
+    if (index >= int(scene_->materials.size()))
+      throw std::out_of_range("GltfMaterialShader: material " + std::to_string(index) + " is not in the scene");
+    if (index >= 0) return scene_->materials[std::size_t(index)];
+    if (mesh < 0 || mesh >= int(scene_->meshes.size()))
+      throw std::out_of_range("GltfMaterialShader: mesh " + std::to_string(mesh) + " is not in the scene");
+    return scene_->material_of(mesh);
   }
 
   const Scene* scene_;

@@ -1,15 +1,17 @@
 #pragma once
 /// \file
-/// Texture lookups for surface shaders: sRGB decoding through a 256-entry table, bilinear
-/// filtering with repeat wrapping (glTF's default sampler), and mip chains (`TextureMips`) read
-/// trilinearly at a hit's footprint (`sample_filtered`), so a single ray per pixel sees the
-/// texture averaged over the pixel instead of one point of it.
+/// Texture lookups for surface shaders, on packets of W lanes (and for one point): sRGB decoding
+/// through a 256-entry table, bilinear filtering with repeat wrapping (glTF's default sampler),
+/// and mip chains (`TextureMips`) read trilinearly at a hit's footprint (`sample_filtered`), so a
+/// single ray per pixel sees the texture averaged over the pixel instead of one point of it. The
+/// lanes' texels are fetched with hardware gathers where the ISA has them.
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -17,6 +19,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "igi/scene/scene.hpp"
+#include "igi/simd/simd.hpp"
 
 namespace igi {
 
@@ -34,52 +37,174 @@ inline const std::array<float, 256>& srgb_to_linear_table() noexcept {
   return table;
 }
 
-/// glm::mix(a, b, t) (the same arithmetic, a (1 - t) + b t), always inlined.
-// The lookups below are always inlined, down to this mix: with the mip chains' callers GCC 12
-// stopped inlining texel, sample_bilinear, glm::mix's helper and sample_filtered into the
-// shader's lane loop, which cost Sponza_lit's frames 3-5% (perf: 12.7% of the samples in those
-// calls against 9.9% in the inlined loop before).
-[[gnu::always_inline]] inline glm::vec4 mix_texels(const glm::vec4& a, const glm::vec4& b, float t) noexcept {
-  const float s = 1.0f - t;  // per component: GCC left glm's vec4 operators out of line here
-  return {a.x * s + b.x * t, a.y * s + b.y * t, a.z * s + b.z * t, a.w * s + b.w * t};
+/// W texels' linear RGBA, one packet per channel.
+template <int W>
+struct TexelPacket {
+  vfloat<W> r, g, b, a;  ///< Channels; colour decoded from sRGB where the texture is sRGB, alpha always linear.
+
+  /// The colour channels.
+  [[gnu::always_inline]] vec3<W> rgb() const noexcept { return {r, g, b}; }
+  /// Lane `i` as a GLM vector.
+  [[gnu::always_inline]] glm::vec4 operator[](int i) const noexcept { return {r[i], g[i], b[i], a[i]}; }
+};
+
+/// a (1 - t) + b t per channel, glm::mix's arithmetic.
+template <int W>
+[[gnu::always_inline]] inline TexelPacket<W> mix_texels(const TexelPacket<W>& a, const TexelPacket<W>& b, const vfloat<W>& t) noexcept {
+  const vfloat<W> s = vfloat<W>(1.0f) - t;
+  return {a.r * s + b.r * t, a.g * s + b.g * t, a.b * s + b.b * t, a.a * s + b.a * t};
 }
 
-/// RGBA of texel (x, y), linear (colour decoded from sRGB if the texture is sRGB; alpha never is).
-[[gnu::always_inline]] inline glm::vec4 texel(const Texture& texture, int x, int y) noexcept {
-  const std::uint8_t* p = &texture.texels[(std::size_t(y) * std::size_t(texture.width) + std::size_t(x)) * 4];
-  if (texture.srgb) {
-    const auto& table = srgb_to_linear_table();
-    return {table[p[0]], table[p[1]], table[p[2]], float(p[3]) / 255.0f};
+/// `a` in the lanes of `mask`, `b` elsewhere.
+template <int W>
+[[gnu::always_inline]] inline TexelPacket<W> select(const vmask<W>& mask, const TexelPacket<W>& a, const TexelPacket<W>& b) noexcept {
+  return {select(mask, a.r, b.r), select(mask, a.g, b.g), select(mask, a.b, b.b), select(mask, a.a, b.a)};
+}
+
+namespace texture_detail {
+
+/// True for a texture with texels to read: positive size and all its RGBA8 texels present.
+inline bool readable(const Texture& texture) noexcept {
+  return texture.width > 0 && texture.height > 0 &&
+         texture.texels.size() >= std::size_t(texture.width) * std::size_t(texture.height) * 4;
+}
+
+/// Where each lane reads: its texture level's texels, width and height (lanes off the mask
+/// read the first texel of a readable level, so every address is valid).
+template <int W>
+struct LaneTextures {
+  std::array<const std::uint8_t*, W> texels{};  ///< Each lane's RGBA8 texels.
+  vint<W> width, height;                        ///< Each lane's texture size.
+  bool uniform = false;                         ///< True if every lane reads texels[0].
+};
+
+/// The texels' RGBA at texel index `index` (row-major) of each lane's texture, linear. One
+/// 32-bit load per lane and texel; sRGB colour decoded through the 256-entry table.
+template <int W>
+[[gnu::always_inline]] inline TexelPacket<W> texels_at(const LaneTextures<W>& textures, const vint<W>& index, bool srgb) noexcept {
+  // R in the lowest byte (memory order), on the little-endian x86 igi targets.
+  vint<W> word;
+  if (textures.uniform) {
+    // One texture: the texels as 32-bit words (the vector's storage is aligned for them).
+    word = gather_every(reinterpret_cast<const std::int32_t*>(textures.texels[0]), index);
+  } else {
+    word = vint<W>([&](int i) {
+      std::uint32_t rgba;
+      std::memcpy(&rgba, textures.texels[std::size_t(i)] + std::size_t(index[i]) * 4, 4);
+      return std::int32_t(rgba);
+    });
   }
-  return {float(p[0]) / 255.0f, float(p[1]) / 255.0f, float(p[2]) / 255.0f, float(p[3]) / 255.0f};
+  const vint<W> byte(0xff);
+  const vint<W> red = word & byte, green = (word >> 8) & byte, blue = (word >> 16) & byte;
+  const vint<W> alpha = (word >> 24) & byte;  // >> of a negative int32 fills with ones: the mask removes them
+  const vfloat<W> scale(255.0f);
+  TexelPacket<W> texel;
+  if (srgb) {
+    const auto& table = srgb_to_linear_table();
+    texel.r = gather_every(table.data(), red);
+    texel.g = gather_every(table.data(), green);
+    texel.b = gather_every(table.data(), blue);
+  } else {
+    texel.r = convert<float>(red) / scale;
+    texel.g = convert<float>(green) / scale;
+    texel.b = convert<float>(blue) / scale;
+  }
+  texel.a = convert<float>(alpha) / scale;
+  return texel;
 }
 
-/// Bilinear lookup at texture coordinates `uv` with repeat wrapping; texel centres sit at
-/// (i + 0.5) / size and v = 0 is the top row (glTF). Non-finite coordinates read texel (0, 0);
-/// an empty or malformed texture reads opaque white, so a broken file cannot crash shading.
-[[gnu::always_inline]] inline glm::vec4 sample_bilinear(const Texture& texture, glm::vec2 uv) noexcept {
-  if (texture.width <= 0 || texture.height <= 0 ||
-      texture.texels.size() < std::size_t(texture.width) * std::size_t(texture.height) * 4)
-    return glm::vec4(1.0f);
-  if (!std::isfinite(uv.x)) uv.x = 0.0f;
-  if (!std::isfinite(uv.y)) uv.y = 0.0f;
+/// Bilinear lookup with repeat wrapping in each lane's texture (`textures`, all readable, all
+/// sRGB or all linear), zero off `mask`: sample_bilinear's arithmetic.
+// Out of line: inlined, its 16 texel loads per lane (64 gathers' worth of code at W = 16) in
+// every lookup of a shader made igi-render's translation unit take over 8 minutes to compile.
+template <int W>
+[[gnu::noinline]] TexelPacket<W> bilinear(const LaneTextures<W>& textures, bool srgb, vfloat<W> u, vfloat<W> v,
+                                                      const vmask<W>& mask) noexcept {
+  const vfloat<W> zero(0.0f);
+  u = select(mask & isfinite(u), u, zero);  // non-finite coordinates read texel (0, 0)
+  v = select(mask & isfinite(v), v, zero);
   // Wrap first so that huge coordinates never overflow the integer texel index.
-  uv.x -= std::floor(uv.x);
-  uv.y -= std::floor(uv.y);
-  const float x = uv.x * float(texture.width) - 0.5f;
-  const float y = uv.y * float(texture.height) - 0.5f;
-  const float x_floor = std::floor(x), y_floor = std::floor(y);
-  const float fx = x - x_floor, fy = y - y_floor;
+  u -= floor(u);
+  v -= floor(v);
+  const vfloat<W> x = u * convert<float>(textures.width) - vfloat<W>(0.5f);
+  const vfloat<W> y = v * convert<float>(textures.height) - vfloat<W>(0.5f);
+  const vfloat<W> x_floor = floor(x), y_floor = floor(y);
+  const vfloat<W> fx = x - x_floor, fy = y - y_floor;
   // The wrapped uv lies in [0, 1] (1 where a tiny negative coordinate rounds up), so x and y lie
   // in [-0.5, size - 0.5] (a few units more only where float(size) rounds, above 2^24 texels):
   // the neighbours lie within one period of the texture, and one addition or subtraction wraps
   // them. (Integer division here, two per neighbour, cost a tenth of the surface stage.)
-  const auto wrap = [](int i, int size) { return i < 0 ? i + size : i >= size ? i - size : i; };
-  const int x0 = wrap(int(x_floor), texture.width), x1 = wrap(int(x_floor) + 1, texture.width);
-  const int y0 = wrap(int(y_floor), texture.height), y1 = wrap(int(y_floor) + 1, texture.height);
-  const glm::vec4 top = mix_texels(texel(texture, x0, y0), texel(texture, x1, y0), fx);
-  const glm::vec4 bottom = mix_texels(texel(texture, x0, y1), texel(texture, x1, y1), fx);
-  return mix_texels(top, bottom, fy);
+  const auto wrap = [](const vint<W>& i, const vint<W>& size) {
+    const vint<W> zero_int(0);
+    return select(i < zero_int, i + size, select(i >= size, i - size, i));
+  };
+  const vint<W> x_base = convert<std::int32_t>(x_floor), y_base = convert<std::int32_t>(y_floor);
+  const vint<W> one(1);
+  const vint<W> x0 = wrap(x_base, textures.width), x1 = wrap(x_base + one, textures.width);
+  const vint<W> row0 = wrap(y_base, textures.height) * textures.width;
+  const vint<W> row1 = wrap(y_base + one, textures.height) * textures.width;
+  const TexelPacket<W> top = mix_texels(texels_at(textures, row0 + x0, srgb), texels_at(textures, row0 + x1, srgb), fx);
+  const TexelPacket<W> bottom = mix_texels(texels_at(textures, row1 + x0, srgb), texels_at(textures, row1 + x1, srgb), fx);
+  const TexelPacket<W> result = mix_texels(top, bottom, fy);
+  return {keep(result.r, mask), keep(result.g, mask), keep(result.b, mask), keep(result.a, mask)};
+}
+
+/// Every lane reading `texture`.
+template <int W>
+[[gnu::always_inline]] inline LaneTextures<W> same_texture(const Texture& texture) noexcept {
+  LaneTextures<W> lanes;
+  lanes.texels.fill(texture.texels.data());
+  lanes.uniform = true;
+  lanes.width = vint<W>(texture.width);
+  lanes.height = vint<W>(texture.height);
+  return lanes;
+}
+
+/// log2(x) for normal floats x > 0 on packets, exact at powers of two and within 1e-7 of
+/// log2's value elsewhere: x = 2^e m with m in [sqrt(1/2), sqrt(2)), ln m = 2 atanh(s) for
+/// s = (m - 1) / (m + 1), |s| < 0.172, by its series to s^9 / 9 (the next term, s^11 / 11, is
+/// below 4e-10). The library's log runs lane by lane; mip selection needs no more than this.
+template <int W>
+[[gnu::always_inline]] inline vfloat<W> log2_positive(const vfloat<W>& x) noexcept {
+  const vint<W> bits = bit_cast<std::int32_t>(x);
+  vint<W> exponent = (bits >> 23) - vint<W>(127);
+  vfloat<W> m = bit_cast<float>((bits & vint<W>(0x7fffff)) | vint<W>(0x3f800000));  // [1, 2)
+  const vmask<W> high = m > vfloat<W>(1.41421356f);
+  m = select(high, m * vfloat<W>(0.5f), m);
+  exponent = select(high, exponent + vint<W>(1), exponent);
+  const vfloat<W> s = (m - vfloat<W>(1.0f)) / (m + vfloat<W>(1.0f));
+  const vfloat<W> s2 = s * s;
+  const vfloat<W> series =
+      vfloat<W>(1.0f) + s2 * (vfloat<W>(1.0f / 3.0f) + s2 * (vfloat<W>(0.2f) + s2 * (vfloat<W>(1.0f / 7.0f) + s2 * vfloat<W>(1.0f / 9.0f))));
+  constexpr float two_log2_e = 2.88539008f;  // 2 / ln 2: ln m = 2 s series, log2 m = ln m / ln 2
+  return convert<float>(exponent) + s * series * vfloat<W>(two_log2_e);
+}
+
+}  // namespace texture_detail
+
+/// RGBA of texel (x, y) of a readable texture, linear (colour decoded from sRGB if the texture is
+/// sRGB; alpha never is).
+inline glm::vec4 texel(const Texture& texture, int x, int y) noexcept {
+  return texture_detail::texels_at(texture_detail::same_texture<1>(texture), vint<1>(y * texture.width + x), texture.srgb)[0];
+}
+
+/// Bilinear lookup of `texture` at texture coordinates (u, v) on the lanes of `mask` (zero
+/// elsewhere), with repeat wrapping; texel centres sit at (i + 0.5) / size and v = 0 is the top
+/// row (glTF). Non-finite coordinates read texel (0, 0); an empty or malformed texture reads
+/// opaque white, so a broken file cannot crash shading.
+template <int W>
+inline TexelPacket<W> sample_bilinear(const Texture& texture, const vfloat<W>& u, const vfloat<W>& v,
+                                                             const vmask<W>& mask) noexcept {
+  if (!texture_detail::readable(texture)) {
+    const vfloat<W> white = keep(vfloat<W>(1.0f), mask);
+    return {white, white, white, white};
+  }
+  return texture_detail::bilinear(texture_detail::same_texture<W>(texture), texture.srgb, u, v, mask);
+}
+
+/// sample_bilinear for one point (`uv`), as RGBA.
+inline glm::vec4 sample_bilinear(const Texture& texture, glm::vec2 uv) noexcept {
+  return sample_bilinear(texture, vfloat<1>(uv.x), vfloat<1>(uv.y), vmask<1>(true))[0];
 }
 
 namespace texture_detail {
@@ -206,28 +331,56 @@ class TextureMips {
   std::vector<Texture> smaller_;
 };
 
-/// Trilinear lookup at `uv` for a footprint `footprint` texture coordinates wide: the average of
-/// the texture over a box that wide, as well as mip levels give it. A level's texel of side s is
-/// a box of that side, and bilinear interpolation between texels adds a tent of half-width s:
-/// variance s^2 / 12 + s^2 / 6 = s^2 / 4, which equals the footprint box's f^2 / 12 at s = f /
-/// sqrt(3). So the levels read are the two whose texels are nearest f / sqrt(3), bilinear in
-/// each, blended by log2 of it (texels of f itself blurred a textured floor seen at 64 x 48 and
-/// Sponza_lit more: RMSE against the pixels' averages 0.050 against 0.041, Sponza_lit's 0.0726
-/// against 0.0724). A footprint of at most sqrt(3) texels of level 0 (magnification), zero or
-/// not finite reads level 0 alone, exactly as sample_bilinear.
-[[gnu::always_inline]] inline glm::vec4 sample_filtered(const TextureMips& mips, glm::vec2 uv, float footprint) noexcept {
+/// Trilinear lookup at (u, v) on the lanes of `mask` (zero elsewhere) for a footprint
+/// `footprint` texture coordinates wide: the average of the texture over a box that wide, as well
+/// as mip levels give it. A level's texel of side s is a box of that side, and bilinear
+/// interpolation between texels adds a tent of half-width s: variance s^2 / 12 + s^2 / 6 = s^2 /
+/// 4, which equals the footprint box's f^2 / 12 at s = f / sqrt(3). So the levels read are the
+/// two whose texels are nearest f / sqrt(3), bilinear in each, blended by log2 of it (texels of f
+/// itself blurred a textured floor seen at 64 x 48 and Sponza_lit more: RMSE against the pixels'
+/// averages 0.050 against 0.041, Sponza_lit's 0.0726 against 0.0724). A footprint of at most
+/// sqrt(3) texels of level 0 (magnification), zero or not finite reads level 0 alone, exactly as
+/// sample_bilinear. Each lane picks its own levels.
+template <int W>
+inline TexelPacket<W> sample_filtered(const TextureMips& mips, const vfloat<W>& u, const vfloat<W>& v,
+                                                             const vfloat<W>& footprint, const vmask<W>& mask) noexcept {
   const Texture& base = mips.level(0);
+  if (mips.count() == 1) return sample_bilinear(base, u, v, mask);
   // The level-0 texels of the level whose kernel matches the footprint's box; the geometric mean
   // of the sides sizes a non-square texture's texel.
   constexpr float inverse_sqrt3 = 0.577350269f;
-  const float texels = footprint * inverse_sqrt3 * std::sqrt(float(base.width) * float(base.height));
-  if (!(texels > 1.0f) || !std::isfinite(texels) || mips.count() == 1) return sample_bilinear(base, uv);
-  const float level = std::min(std::log2(texels), float(mips.count() - 1));
-  const int lower = int(level);
-  const float fraction = level - float(lower);
-  const glm::vec4 near = sample_bilinear(mips.level(lower), uv);
-  if (lower + 1 >= mips.count() || fraction == 0.0f) return near;
-  return mix_texels(near, sample_bilinear(mips.level(lower + 1), uv), fraction);
+  const vfloat<W> texels = footprint * vfloat<W>(inverse_sqrt3) * vfloat<W>(std::sqrt(float(base.width) * float(base.height)));
+  const vmask<W> minified = mask & (texels > vfloat<W>(1.0f)) & isfinite(texels);
+  if (none(minified)) return sample_bilinear(base, u, v, mask);
+  const vfloat<W> level =
+      select(minified, min(texture_detail::log2_positive(select(minified, texels, vfloat<W>(1.0f))), vfloat<W>(float(mips.count() - 1))),
+             vfloat<W>(0.0f));
+  const vint<W> lower = convert<std::int32_t>(level);
+  const vfloat<W> fraction = level - convert<float>(lower);
+  // Each lane's level; lanes that share one read the same texture (the common case: one
+  // material's texture over a packet of neighbouring pixels).
+  const auto levels = [&](const vint<W>& chosen, const vmask<W>& reading) {
+    const std::int32_t first = reduce_min(chosen, reading);
+    if (first == reduce_max(chosen, reading)) return texture_detail::same_texture<W>(mips.level(first));
+    texture_detail::LaneTextures<W> lanes;
+    for (int i = 0; i < W; ++i) {
+      const Texture& level_texture = mips.level(reading[i] ? chosen[i] : 0);
+      lanes.texels[std::size_t(i)] = level_texture.texels.data();
+      lanes.width.set(i, level_texture.width);
+      lanes.height.set(i, level_texture.height);
+    }
+    return lanes;
+  };
+  const TexelPacket<W> near = texture_detail::bilinear(levels(lower, mask), base.srgb, u, v, mask);
+  const vmask<W> blended = minified & (lower + vint<W>(1) < vint<W>(mips.count())) & (fraction != vfloat<W>(0.0f));
+  if (none(blended)) return near;
+  const TexelPacket<W> far = texture_detail::bilinear(levels(lower + vint<W>(1), blended), base.srgb, u, v, blended);
+  return select(blended, mix_texels(near, far, fraction), near);
+}
+
+/// sample_filtered at one point (`uv`), as RGBA.
+inline glm::vec4 sample_filtered(const TextureMips& mips, glm::vec2 uv, float footprint) noexcept {
+  return sample_filtered(mips, vfloat<1>(uv.x), vfloat<1>(uv.y), vfloat<1>(footprint), vmask<1>(true))[0];
 }
 
 }  // namespace igi
