@@ -585,6 +585,54 @@ TEST_CASE("glTF KHR_materials_specular: factors, textures (alpha linear, colour 
   CHECK(all.find("ignores") == std::string::npos);  // the extension is known
 }
 
+TEST_CASE("glTF KHR_materials_clearcoat: factors and textures (linear: red weighs the coat, green its roughness) with "
+          "their transforms; the coat's normal map warns", "[scene][gltf][clearcoat]") {
+  const auto dir = scratch_dir("materials_clearcoat");
+  const std::vector<std::uint8_t> texels{200, 100, 50, 255};
+  REQUIRE(stbi_write_png((dir / "coat.png").string().c_str(), 1, 1, 4, texels.data(), 4) != 0);
+  GltfBuilder b;
+  b.doc["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_texture_transform"};
+  b.doc["extensionsRequired"] = {"KHR_materials_clearcoat"};
+  b.doc["images"] = json::array({{{"uri", "coat.png"}}});
+  b.doc["textures"] = json::array({{{"source", 0}}});
+  b.doc["materials"] = json::array({
+      {{"name", "lacquer"},
+       {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}},
+       {"extensions",
+        {{"KHR_materials_clearcoat",
+          {{"clearcoatFactor", 0.75},
+           {"clearcoatRoughnessFactor", 0.25},
+           {"clearcoatTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {2.0, 4.0}}}}}}}},
+           {"clearcoatRoughnessTexture", {{"index", 0}, {"texCoord", 1}}},
+           {"clearcoatNormalTexture", {{"index", 0}}}}}}}},
+      {{"name", "plain"}},
+  });
+  b.add_quad_node("quad");
+  b.set_roots({0});
+  std::string all;
+  const igi::Scene scene = load_with_warnings(b.write_gltf(dir, "clearcoat"), all);
+  INFO(all);
+  REQUIRE(scene.materials.size() == 2);
+  const igi::Material& lacquer = scene.materials[0];
+  CHECK(lacquer.clearcoat == 0.75f);
+  CHECK(lacquer.clearcoat_roughness == 0.25f);
+  // The coat's textures are linear: the image used as base colour (sRGB) becomes a second texture.
+  REQUIRE(lacquer.clearcoat_texture >= 0);
+  CHECK(lacquer.clearcoat_texture == lacquer.clearcoat_roughness_texture);
+  CHECK(lacquer.clearcoat_texture != lacquer.base_color_texture);
+  CHECK_FALSE(scene.textures[std::size_t(lacquer.clearcoat_texture)].srgb);
+  CHECK(scene.textures[std::size_t(lacquer.clearcoat_texture)].texels == texels);
+  CHECK(lacquer.clearcoat_transform.apply({0.25f, 0.5f}) == glm::vec2(0.5f, 2.0f));
+  CHECK(lacquer.clearcoat_roughness_transform.apply({0.25f, 0.5f}) == glm::vec2(0.25f, 0.5f));
+  CHECK_THAT(all, Catch::Contains("'lacquer': clearcoat roughness texture uses TEXCOORD_1"));
+  CHECK_THAT(all, Catch::Contains("'lacquer': KHR_materials_clearcoat clearcoatNormalTexture is ignored"));
+  // Without the extension: no coat.
+  const igi::Material& plain = scene.materials[1];
+  CHECK(plain.clearcoat == 0.0f);
+  CHECK(plain.clearcoat_texture == -1);
+  CHECK(all.find("which igi ignores") == std::string::npos);  // the extension is known
+}
+
 TEST_CASE("glTF KHR_lights_punctual: point, spot and directional placed by their nodes", "[scene][gltf]") {
   GltfBuilder b;
   b.doc["extensionsUsed"] = {"KHR_lights_punctual"};

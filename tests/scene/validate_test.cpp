@@ -103,18 +103,33 @@ TEST_CASE("validate: broken indices and references are errors naming what is bro
     scene.materials.push_back({.name = "m", .base_color_texture = 2});
     CHECK_THAT(validation_error(scene), Contains("material 'm' uses texture 2"));
   }
-  for (const bool color : {false, true}) {  // KHR_materials_specular's factors and textures
+  // KHR_materials_specular's and _clearcoat's factors, texture slots and transforms.
+  struct Slot {
+    const char* what;                           ///< For the message.
+    float& (*number)(igi::Material&);           ///< The slot's factor (one channel of a colour).
+    int igi::Material::*texture;                ///< Its texture.
+    igi::UvTransform igi::Material::*transform;  ///< That texture's transform.
+  };
+  const Slot slots[] = {
+      {"specular", [](igi::Material& m) -> float& { return m.specular; }, &igi::Material::specular_texture,
+       &igi::Material::specular_transform},
+      {"specular colour", [](igi::Material& m) -> float& { return m.specular_color.g; },
+       &igi::Material::specular_color_texture, &igi::Material::specular_color_transform},
+      {"clearcoat", [](igi::Material& m) -> float& { return m.clearcoat; }, &igi::Material::clearcoat_texture,
+       &igi::Material::clearcoat_transform},
+      {"clearcoat roughness", [](igi::Material& m) -> float& { return m.clearcoat_roughness; },
+       &igi::Material::clearcoat_roughness_texture, &igi::Material::clearcoat_roughness_transform}};
+  for (const Slot& slot : slots) {
+    INFO(slot.what);
     igi::Scene scene = quad_scene();
-    igi::Material material{.name = "varnish"};
-    (color ? material.specular_color.g : material.specular) = std::numeric_limits<float>::quiet_NaN();
-    scene.materials.push_back(material);
+    scene.materials.push_back({.name = "varnish"});
+    slot.number(scene.materials[0]) = std::numeric_limits<float>::quiet_NaN();
     CHECK_THAT(validation_error(scene), Contains("material 'varnish' has a non-finite parameter"));
     scene.materials[0] = igi::Material{.name = "varnish"};
-    (color ? scene.materials[0].specular_color_texture : scene.materials[0].specular_texture) = 4;
+    scene.materials[0].*slot.texture = 4;
     CHECK_THAT(validation_error(scene), Contains("material 'varnish' uses texture 4"));
     scene.materials[0] = igi::Material{.name = "varnish"};
-    (color ? scene.materials[0].specular_color_transform : scene.materials[0].specular_transform).matrix[2].x =
-        std::numeric_limits<float>::infinity();
+    (scene.materials[0].*slot.transform).matrix[2].x = std::numeric_limits<float>::infinity();
     CHECK_THAT(validation_error(scene), Contains("material 'varnish' has a non-finite texture transform"));
   }
   {

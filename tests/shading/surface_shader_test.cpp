@@ -844,3 +844,77 @@ TEST_CASE("GltfMaterialShader: a packet's lanes shade as each does alone, whatev
   CHECK(compared > 2000);
   CHECK(minified > 500);
 }
+
+TEST_CASE("GltfMaterialShader: KHR_materials_clearcoat reflects Schlick's 4% over the view angle, as a mirror or in the "
+          "glossy lobe, and dims all below it",
+          "[shading][gltf][clearcoat]") {
+  // A coat texture of red 128 (the coat's weight x 128/255) and green 64 (its roughness x 64/255).
+  Scene scene = linear_texture_scene(1, 1, {128, 64, 0, 255});
+  Material base{.name = "base", .base_color = {0.5f, 0.4f, 0.3f, 1.0f}, .metallic = 0.0f, .emission = {1, 2, 3}};
+  base.specular = 0.0f;  // a Lambertian base: everything glossy or mirror below is the coat's
+  Material smooth = base;
+  smooth.name = "smooth";
+  smooth.clearcoat = 1.0f;
+  Material rough = smooth;
+  rough.name = "rough";
+  rough.clearcoat_roughness = 0.5f;
+  Material textured = rough;
+  textured.name = "textured";
+  textured.clearcoat_texture = 0;
+  textured.clearcoat_roughness_texture = 0;
+  Material rough_metal = rough;  // a metal's own lobe reflects more than the coat: its exponent stays
+  rough_metal.name = "rough metal";
+  rough_metal.metallic = 1.0f;
+  for (const Material& m : {base, smooth, rough, textured, rough_metal}) scene.materials.push_back(m);
+  const GltfMaterialShader shader(scene);
+
+  for (const float cosine : {1.0f, 0.8f, 0.5f, 0.2f, 0.05f}) {
+    SurfaceHit<W> hit = floor_hits(0.1f);
+    const glm::vec3 wo(std::sqrt(1.0f - cosine * cosine), cosine, 0.0f);
+    hit.wo = vec3<W>(wo);
+    for (int i = 0; i < 5; ++i) hit.material.set(i, i);
+    const vmask<W> mask = vmask<W>::first(5);
+    const BrdfParameters<W> p = shader.shade(hit, mask);
+    INFO("cosine " << cosine);
+    const float x = 1.0f - cosine, x5 = x * x * x * x * x;
+    // Schlick from f0 = 4%, its rise to 1 - roughness (rough_fresnel).
+    const auto fresnel = [&](float weight, float roughness) {
+      return weight * (0.04f + (std::max(1.0f - roughness, 0.04f) - 0.04f) * x5);
+    };
+    const auto near = [](const glm::vec3& a, const glm::vec3& b) { return glm::length(a - b) < 1e-6f; };
+    // No coat: Lambertian, no reflection.
+    CHECK(p.mirror[0] == glm::vec3(0.0f));
+    CHECK(p.glossy[0] == glm::vec3(0.0f));
+    const glm::vec3 albedo = p.albedo[0], emission = p.emission[0];
+    // A smooth coat is a mirror of F; the base keeps 1 - F of its diffuse and emitted light.
+    const float smooth_f = fresnel(1.0f, 0.0f);
+    CHECK(near(p.mirror[1], glm::vec3(smooth_f)));
+    CHECK(p.glossy[1] == glm::vec3(0.0f));
+    CHECK(near(p.albedo[1], albedo * (1.0f - smooth_f)));
+    CHECK(near(p.emission[1], emission * (1.0f - smooth_f)));
+    // A rough coat joins the glossy lobe with its exponent, 2 / 0.5^4 - 2 = 30.
+    const float rough_f = fresnel(1.0f, 0.5f);
+    CHECK(near(p.glossy[2], glm::vec3(rough_f)));
+    CHECK(p.mirror[2] == glm::vec3(0.0f));
+    CHECK(p.shininess[2] == Approx(30.0f));
+    CHECK(near(p.albedo[2], albedo * (1.0f - rough_f)));
+    // The textures scale the factors: weight 128/255, roughness 0.5 x 64/255 (0.125, still above
+    // the mirror roughness 0.1).
+    const float textured_f = fresnel(128.0f / 255.0f, 0.5f * 64.0f / 255.0f);
+    CHECK(near(p.glossy[3], glm::vec3(textured_f)));
+    CHECK(p.shininess[3] == Approx(2.0f / std::pow(0.5f * 64.0f / 255.0f, 4.0f) - 2.0f).epsilon(1e-4));
+    CHECK(near(p.albedo[3], albedo * (1.0f - textured_f)));
+    // Over a rough metal (roughness 1, exponent 1, reflecting its base colour) the one lobe holds
+    // both reflections, with the exponent of the one that reflects more: the metal's, but the
+    // coat's at grazing angles.
+    const float metal = 0.5f * (1.0f - rough_f);
+    CHECK(p.shininess[4] == Approx(rough_f > metal ? 30.0f : 1.0f));
+    CHECK(p.albedo[4] == glm::vec3(0.0f));
+    CHECK(near(p.glossy[4], glm::vec3(0.5f, 0.4f, 0.3f) * (1.0f - rough_f) + glm::vec3(rough_f)));
+    // Nothing reflects more than it receives.
+    for (int i = 0; i < 5; ++i) {
+      const glm::vec3 total = p.albedo[i] + p.glossy[i] + p.mirror[i] + glm::vec3(p.transmission[i]);
+      CHECK(glm::all(glm::lessThanEqual(total, glm::vec3(1.0f + 1e-6f))));  // float rounding
+    }
+  }
+}

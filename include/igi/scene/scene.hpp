@@ -82,18 +82,29 @@ struct Material {
   /// specularColorTexture: index into Scene::textures (sRGB; its rgb scales `specular_color`), or -1.
   int specular_color_texture = -1;
   UvTransform specular_color_transform;  ///< That texture's KHR_texture_transform.
+  /// KHR_materials_clearcoat clearcoatFactor: the weight of a clear, colourless dielectric coat
+  /// (ior 1.5) over the whole material, lacquer or varnish; 0 (glTF's default) is no coat.
+  float clearcoat = 0.0f;
+  /// clearcoatTexture: index into Scene::textures (linear; its red channel scales `clearcoat`), or -1.
+  int clearcoat_texture = -1;
+  UvTransform clearcoat_transform;    ///< That texture's KHR_texture_transform.
+  float clearcoat_roughness = 0.0f;   ///< clearcoatRoughnessFactor: the coat's roughness (glTF default 0).
+  /// clearcoatRoughnessTexture: index into Scene::textures (linear; its green channel scales
+  /// `clearcoat_roughness`), or -1.
+  int clearcoat_roughness_texture = -1;
+  UvTransform clearcoat_roughness_transform;  ///< That texture's KHR_texture_transform.
   AlphaMode alpha_mode = AlphaMode::opaque;            ///< glTF alphaMode.
   float alpha_cutoff = 0.5f;                           ///< glTF default 0.5.
   bool double_sided = false;                           ///< glTF doubleSided.
   /// Every texture slot's index into Scene::textures (-1 where the slot is empty).
-  std::array<int, 6> textures() const noexcept {
-    return {base_color_texture, emissive_texture, metallic_roughness_texture, normal_texture, specular_texture,
-            specular_color_texture};
+  std::array<int, 8> textures() const noexcept {
+    return {base_color_texture, emissive_texture,       metallic_roughness_texture, normal_texture,
+            specular_texture,   specular_color_texture, clearcoat_texture,          clearcoat_roughness_texture};
   }
   /// Every texture slot's KHR_texture_transform.
-  std::array<const UvTransform*, 6> transforms() const noexcept {
-    return {&base_color_transform, &emissive_transform, &metallic_roughness_transform, &normal_transform,
-            &specular_transform, &specular_color_transform};
+  std::array<const UvTransform*, 8> transforms() const noexcept {
+    return {&base_color_transform, &emissive_transform,       &metallic_roughness_transform, &normal_transform,
+            &specular_transform,   &specular_color_transform, &clearcoat_transform,          &clearcoat_roughness_transform};
   }
   /// True if the material emits light.
   bool emissive() const noexcept { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }

@@ -191,7 +191,8 @@ inline void validate_scene(Scene& scene, std::vector<std::string>* warnings = nu
         !std::isfinite(material.base_color.b) || !std::isfinite(material.base_color.a) ||
         !detail::finite(material.emission) || !std::isfinite(material.metallic) || !std::isfinite(material.roughness) ||
         !std::isfinite(material.transmission) || !std::isfinite(material.ior) || !std::isfinite(material.alpha_cutoff) ||
-        !std::isfinite(material.normal_scale) || !std::isfinite(material.specular) || !detail::finite(material.specular_color))
+        !std::isfinite(material.normal_scale) || !std::isfinite(material.specular) || !detail::finite(material.specular_color) ||
+        !std::isfinite(material.clearcoat) || !std::isfinite(material.clearcoat_roughness))
       throw SceneError(detail::located(where, "material '" + material.name + "' has a non-finite parameter"));
     for (const UvTransform* transform : material.transforms())
       for (int column = 0; column < 3; ++column)

@@ -3,7 +3,7 @@
 /// The default surface shader: glTF metallic-roughness materials (factors; base-colour, emissive
 /// and specular-colour textures with sRGB decode, linear metallic-roughness, normal and specular
 /// textures, read trilinearly from mip chains at the hit's footprint; alpha-mask cut-outs;
-/// transmission; KHR_materials_specular) mapped onto igi's few BRDF parameters.
+/// transmission; KHR_materials_specular and _clearcoat) mapped onto igi's few BRDF parameters.
 ///
 /// The mapping (per hit, with base = baseColorFactor x base-colour texture, linear):
 /// - the dielectric part (weight (1 - metallic) x (1 - transmission)) is glTF's Fresnel mix of
@@ -26,6 +26,7 @@
 ///   exceed 1 per channel;
 /// - alphaMode MASK: opaque where alpha >= alphaCutoff, the alpha read at the ray's point at full
 ///   resolution whatever its footprint; BLEND is rendered opaque;
+/// - KHR_materials_clearcoat: a clear coat over all of it (add_clearcoat);
 /// - emission = emissiveFactor x strength x emissive texture, on front faces (both faces if
 ///   the material is double-sided), matching how the light sampler emits;
 /// - the normal is the interpolated shading normal, tilted by the normal texture where there is
@@ -125,6 +126,49 @@ template <int W>
   return {clamp(value.x, zero, one), clamp(value.y, zero, one), clamp(value.z, zero, one)};
 }
 
+/// KHR_materials_clearcoat on the lanes of `mask` of `p`, the parameters of what lies below the
+/// coat: a clear dielectric (ior 1.5, so f0 = 4%) reflects F = clearcoat x rough_fresnel(f0, coat
+/// roughness, the view's cosine to the shading normal: the extension's coat does not take the
+/// base's normal map), and everything below it (diffuse, specular, transmitted and emitted light)
+/// keeps 1 - F. Below the mirror roughness the coat is a mirror, else it joins the glossy lobe:
+/// igi has one glossy lobe per hit, which then takes the exponent of whichever of the two
+/// reflects more. (Mirror rays leave along the one normal igi keeps per hit, the base's.)
+template <int W>
+inline void add_clearcoat(std::span<const TextureMips> mips, const Material& material, const SurfaceHit<W>& hit,
+                          const vmask<W>& mask, float mirror_roughness, BrdfParameters<W>& p) {
+  const vfloat<W> zero(0.0f), one(1.0f);
+  vfloat<W> coat(material.clearcoat);
+  if (material.clearcoat_texture >= 0)
+    coat = coat * sample_transformed(mips[std::size_t(material.clearcoat_texture)], material.clearcoat_transform, hit, mask).r;
+  coat = clamp(coat, zero, one);
+  const vmask<W> coated = mask & (coat > zero);
+  if (none(coated)) return;
+  vfloat<W> roughness(material.clearcoat_roughness);
+  if (material.clearcoat_roughness_texture >= 0)
+    roughness = roughness * sample_transformed(mips[std::size_t(material.clearcoat_roughness_texture)],
+                                               material.clearcoat_roughness_transform, hit, coated)
+                                .g;
+  roughness = clamp(roughness, zero, one);
+  constexpr float coat_f0 = 0.04f;  // ((1.5 - 1) / (1.5 + 1))^2: the extension fixes the coat's ior at 1.5
+  const vfloat<W> cosine = dot(hit.shading_normal, hit.wo);
+  const vfloat<W> reflected = keep(coat * rough_fresnel(vec3<W>(glm::vec3(coat_f0)), roughness, cosine).x, coated);
+  const vfloat<W> below = one - reflected;
+  p.albedo *= below;
+  p.glossy *= below;
+  p.mirror *= below;
+  p.emission *= below;
+  p.transmission = p.transmission * below;
+  const vec3<W> coat_reflection(reflected, reflected, reflected);
+  const vmask<W> mirror = roughness < vfloat<W>(mirror_roughness);
+  p.mirror += select(mirror, coat_reflection, vec3<W>());
+  const vmask<W> glossy = coated & !mirror;
+  const vfloat<W> lobe_width = roughness * roughness;
+  const vfloat<W> coat_shininess = clamp(vfloat<W>(2.0f) / (lobe_width * lobe_width) - vfloat<W>(2.0f), one, vfloat<W>(1e4f));
+  const vfloat<W> base_glossy = max(p.glossy.x, max(p.glossy.y, p.glossy.z));
+  p.shininess = select(glossy & (reflected > base_glossy), coat_shininess, p.shininess);
+  p.glossy += select(glossy, coat_reflection, vec3<W>());
+}
+
 /// Maps the lanes of `mask`, all on `material`, to BRDF parameters (the mapping in this file's
 /// comment; other lanes zero), its textures read from `mips` (one chain per Scene::textures entry)
 /// at the hits' footprints. The normal is unit: a tilted normal that is zero or not finite
@@ -210,6 +254,7 @@ inline BrdfParameters<W> gltf_material_parameters(std::span<const TextureMips> m
       emission = emission * sample_transformed(mips[std::size_t(material.emissive_texture)], material.emissive_transform, hit, emitting).rgb();
     p.emission = select(emitting, emission, vec3<W>());
   }
+  if (material.clearcoat > 0.0f) add_clearcoat(mips, material, hit, mask, mirror_roughness, p);
   p.opaque = material.alpha_mode != AlphaMode::mask ? mask : mask & (alpha >= vfloat<W>(material.alpha_cutoff));
   // A unit normal for the BRDF shader: the tilted one where it is usable, else the hit's.
   const vfloat<W> length2 = dot(normal, normal);

@@ -42,7 +42,7 @@ inline bool keep_encoded_image(tinygltf::Image* image, const int image_index, st
   return true;
 }
 
-/// A texture reference inside a material extension (KHR_materials_specular's textures): glTF's
+/// A texture reference inside a material extension (KHR_materials_specular's and _clearcoat's textures): glTF's
 /// textureInfo as a JSON value rather than tinygltf's parsed struct.
 struct ExtensionTexture {
   int index = -1;                   ///< glTF texture index, -1 when absent or not an integer.
@@ -67,11 +67,13 @@ inline ExtensionTexture extension_texture(const tinygltf::ExtensionMap& extensio
 }
 
 /// The glTF texture indices of every slot of `material` igi reads (-1 where a slot is empty).
-inline std::array<int, 6> material_texture_indices(const tinygltf::Material& material) {
+inline std::array<int, 8> material_texture_indices(const tinygltf::Material& material) {
   return {material.pbrMetallicRoughness.baseColorTexture.index, material.emissiveTexture.index,
           material.pbrMetallicRoughness.metallicRoughnessTexture.index, material.normalTexture.index,
           extension_texture(material.extensions, "KHR_materials_specular", "specularTexture").index,
-          extension_texture(material.extensions, "KHR_materials_specular", "specularColorTexture").index};
+          extension_texture(material.extensions, "KHR_materials_specular", "specularColorTexture").index,
+          extension_texture(material.extensions, "KHR_materials_clearcoat", "clearcoatTexture").index,
+          extension_texture(material.extensions, "KHR_materials_clearcoat", "clearcoatRoughnessTexture").index};
 }
 
 /// The decoded images of one parsed glTF model and the scene textures made from them.

@@ -45,9 +45,9 @@ namespace gltf_detail {
 /// glTF extensions the loader understands, so a file may list them as required.
 inline const std::set<std::string, std::less<>>& supported_extensions() {
   static const std::set<std::string, std::less<>> names{
-      "KHR_lights_punctual",      "KHR_materials_emissive_strength", "KHR_materials_transmission",
-      "KHR_materials_ior",        "KHR_materials_specular",          "KHR_mesh_quantization",
-      "KHR_texture_transform"};
+      "KHR_lights_punctual",     "KHR_materials_clearcoat", "KHR_materials_emissive_strength",
+      "KHR_materials_ior",       "KHR_materials_specular",  "KHR_materials_transmission",
+      "KHR_mesh_quantization",   "KHR_texture_transform"};
   return names;
 }
 
@@ -235,6 +235,25 @@ class Loader {
     warn_uv_set(material.specular_color_texture, color.uv_set, user, "specular colour");
   }
 
+  /// KHR_materials_clearcoat's factors and textures into `material` (no coat without it). The
+  /// coat's own normal map is not read: the coat takes the base's normal (a warning says so).
+  void convert_clearcoat(const tinygltf::ExtensionMap& extensions, const std::string& user, Material& material) {
+    const char* extension = "KHR_materials_clearcoat";
+    material.clearcoat = float(extension_number(extensions, extension, "clearcoatFactor", 0.0));
+    material.clearcoat_roughness = float(extension_number(extensions, extension, "clearcoatRoughnessFactor", 0.0));
+    ExtensionTexture coat = extension_texture(extensions, extension, "clearcoatTexture");
+    material.clearcoat_texture = textures_.scene_texture(coat.index, user, "clearcoat", false, scene_.textures);
+    material.clearcoat_transform = texture_transform(coat.extensions, user, "clearcoat", coat.uv_set);
+    warn_uv_set(material.clearcoat_texture, coat.uv_set, user, "clearcoat");
+    ExtensionTexture roughness = extension_texture(extensions, extension, "clearcoatRoughnessTexture");
+    material.clearcoat_roughness_texture =
+        textures_.scene_texture(roughness.index, user, "clearcoat roughness", false, scene_.textures);
+    material.clearcoat_roughness_transform = texture_transform(roughness.extensions, user, "clearcoat roughness", roughness.uv_set);
+    warn_uv_set(material.clearcoat_roughness_texture, roughness.uv_set, user, "clearcoat roughness");
+    if (extension_texture(extensions, extension, "clearcoatNormalTexture").index >= 0)
+      warn(user + ": KHR_materials_clearcoat clearcoatNormalTexture is ignored; the coat takes the base's normal");
+  }
+
   /// Converts every glTF material (indices are kept, so primitives keep theirs).
   void convert_materials() {
     for (std::size_t m = 0; m < model_.materials.size(); ++m) {
@@ -276,6 +295,7 @@ class Loader {
       material.transmission = float(extension_number(source.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
       material.ior = float(extension_number(source.extensions, "KHR_materials_ior", "ior", 1.5));  // glTF's default IOR
       convert_specular(source.extensions, user, material);
+      convert_clearcoat(source.extensions, user, material);
       if (source.alphaMode == "MASK") {
         material.alpha_mode = AlphaMode::mask;
       } else if (source.alphaMode == "BLEND") {
