@@ -60,8 +60,8 @@ namespace igi {
 /// `chain` read at the hit's texture coordinates as `transform` maps them (KHR_texture_transform),
 /// at the hit's footprint widened alike, on the lanes of `mask` (zero elsewhere).
 template <int W>
-inline TexelPacket<W> sample_transformed(const TextureMips& chain, const UvTransform& transform,
-                                                                const SurfaceHit<W>& hit, const vmask<W>& mask) noexcept {
+inline TexelPacket<W> sample_transformed(const TextureMips& chain, const UvTransform& transform, const SurfaceHit<W>& hit,
+                                         const vmask<W>& mask) noexcept {
   const glm::mat3x2& m = transform.matrix;
   const vfloat<W> u = vfloat<W>(m[0].x) * hit.u + vfloat<W>(m[1].x) * hit.v + vfloat<W>(m[2].x);
   const vfloat<W> v = vfloat<W>(m[0].y) * hit.u + vfloat<W>(m[1].y) * hit.v + vfloat<W>(m[2].y);
@@ -77,8 +77,8 @@ inline TexelPacket<W> sample_transformed(const TextureMips& chain, const UvTrans
 /// double-sided material's normal there. Without a frame (no texture coordinates, or uvs that
 /// span no area) or for a texel that gives no direction, the shading normal stays.
 template <int W>
-inline vec3<W> normal_mapped(const TextureMips& chain, float scale, const UvTransform& transform,
-                                                    const SurfaceHit<W>& hit, const vmask<W>& mask) noexcept {
+inline vec3<W> normal_mapped(const TextureMips& chain, float scale, const UvTransform& transform, const SurfaceHit<W>& hit,
+                             const vmask<W>& mask) noexcept {
   // (dp/du', dp/dv') = (dp/du, dp/dv) A^-1 for the transform's linear part A, one per material.
   const glm::mat2 linear(transform.matrix[0], transform.matrix[1]);
   const float determinant = glm::determinant(linear);
@@ -174,9 +174,8 @@ inline void add_clearcoat(std::span<const TextureMips> mips, const Material& mat
 /// at the hits' footprints. The normal is unit: a tilted normal that is zero or not finite
 /// falls back to the hit's shading normal.
 template <int W>
-inline BrdfParameters<W> gltf_material_parameters(std::span<const TextureMips> mips,
-                                                                        const Material& material, const SurfaceHit<W>& hit,
-                                                                        const vmask<W>& mask, float mirror_roughness) {
+inline BrdfParameters<W> gltf_material_parameters(std::span<const TextureMips> mips, const Material& material,
+                                                  const SurfaceHit<W>& hit, const vmask<W>& mask, float mirror_roughness) {
   const vfloat<W> zero(0.0f), one(1.0f);
   vec3<W> color(glm::vec3(material.base_color));
   vfloat<W> alpha(material.base_color.a);

@@ -115,11 +115,13 @@ template <int W>
 
 /// Bilinear lookup with repeat wrapping in each lane's texture (`textures`, all readable, all
 /// sRGB or all linear), zero off `mask`: sample_bilinear's arithmetic.
-// Out of line: inlined, its 16 texel loads per lane (64 gathers' worth of code at W = 16) in
-// every lookup of a shader made igi-render's translation unit take over 8 minutes to compile.
+// Out of line, and the lookups that call it inline rather than always inlined: with all of them
+// forced inline (four texel loads per lane, three table lookups each, in every lookup of the
+// glTF shader, at every packet width) igi-render's translation unit compiled for 8 minutes
+// without finishing; 1.3 minutes now.
 template <int W>
 [[gnu::noinline]] TexelPacket<W> bilinear(const LaneTextures<W>& textures, bool srgb, vfloat<W> u, vfloat<W> v,
-                                                      const vmask<W>& mask) noexcept {
+                                           const vmask<W>& mask) noexcept {
   const vfloat<W> zero(0.0f);
   u = select(mask & isfinite(u), u, zero);  // non-finite coordinates read texel (0, 0)
   v = select(mask & isfinite(v), v, zero);
@@ -194,7 +196,7 @@ inline glm::vec4 texel(const Texture& texture, int x, int y) noexcept {
 /// opaque white, so a broken file cannot crash shading.
 template <int W>
 inline TexelPacket<W> sample_bilinear(const Texture& texture, const vfloat<W>& u, const vfloat<W>& v,
-                                                             const vmask<W>& mask) noexcept {
+                                      const vmask<W>& mask) noexcept {
   if (!texture_detail::readable(texture)) {
     const vfloat<W> white = keep(vfloat<W>(1.0f), mask);
     return {white, white, white, white};
@@ -343,7 +345,7 @@ class TextureMips {
 /// sample_bilinear. Each lane picks its own levels.
 template <int W>
 inline TexelPacket<W> sample_filtered(const TextureMips& mips, const vfloat<W>& u, const vfloat<W>& v,
-                                                             const vfloat<W>& footprint, const vmask<W>& mask) noexcept {
+                                      const vfloat<W>& footprint, const vmask<W>& mask) noexcept {
   const Texture& base = mips.level(0);
   if (mips.count() == 1) return sample_bilinear(base, u, v, mask);
   // The level-0 texels of the level whose kernel matches the footprint's box; the geometric mean
