@@ -57,14 +57,21 @@
 
 namespace igi {
 
+/// The hit's texture coordinates (u, v) as `transform` maps them (KHR_texture_transform).
+template <int W>
+[[gnu::always_inline]] inline std::array<vfloat<W>, 2> transformed_uv(const UvTransform& transform,
+                                                                      const SurfaceHit<W>& hit) noexcept {
+  const glm::mat3x2& m = transform.matrix;
+  return {vfloat<W>(m[0].x) * hit.u + vfloat<W>(m[1].x) * hit.v + vfloat<W>(m[2].x),
+          vfloat<W>(m[0].y) * hit.u + vfloat<W>(m[1].y) * hit.v + vfloat<W>(m[2].y)};
+}
+
 /// `chain` read at the hit's texture coordinates as `transform` maps them (KHR_texture_transform),
 /// at the hit's footprint widened alike, on the lanes of `mask` (zero elsewhere).
 template <int W>
 inline TexelPacket<W> sample_transformed(const TextureMips& chain, const UvTransform& transform, const SurfaceHit<W>& hit,
                                          const vmask<W>& mask) noexcept {
-  const glm::mat3x2& m = transform.matrix;
-  const vfloat<W> u = vfloat<W>(m[0].x) * hit.u + vfloat<W>(m[1].x) * hit.v + vfloat<W>(m[2].x);
-  const vfloat<W> v = vfloat<W>(m[0].y) * hit.u + vfloat<W>(m[1].y) * hit.v + vfloat<W>(m[2].y);
+  const auto [u, v] = transformed_uv(transform, hit);
   return sample_filtered(chain, u, v, hit.texture_footprint * vfloat<W>(transform.footprint_scale()), mask);
 }
 
@@ -188,9 +195,7 @@ inline BrdfParameters<W> gltf_material_parameters(std::span<const TextureMips> m
     // into solid sheets or nothing by its mean coverage, where point tests keep it on average.
     const vmask<W> point_alpha = mask & (hit.texture_footprint > zero);
     if (material.alpha_mode == AlphaMode::mask && any(point_alpha)) {
-      const glm::mat3x2& m = material.base_color_transform.matrix;
-      const vfloat<W> u = vfloat<W>(m[0].x) * hit.u + vfloat<W>(m[1].x) * hit.v + vfloat<W>(m[2].x);
-      const vfloat<W> v = vfloat<W>(m[0].y) * hit.u + vfloat<W>(m[1].y) * hit.v + vfloat<W>(m[2].y);
+      const auto [u, v] = transformed_uv(material.base_color_transform, hit);
       texture_alpha = select(point_alpha, sample_bilinear(chain.level(0), u, v, point_alpha).a, texture_alpha);
     }
     alpha = alpha * texture_alpha;

@@ -350,10 +350,7 @@ class Loader {
     const auto read_uvs = [&](const char* attribute, std::vector<glm::vec2>& uvs) {
       const auto found = primitive.attributes.find(attribute);
       if (found == primitive.attributes.end()) return;
-      const std::vector<float> values = accessors_.read_floats(found->second, 2, any_attribute, mesh.name + " " + attribute);
-      if (values.size() / 2 != vertex_count)
-        fail(label + ": " + attribute + " has " + std::to_string(values.size() / 2) + " elements for " +
-             std::to_string(vertex_count) + " positions");
+      const std::vector<float> values = read_vertex_attribute(found->second, 2, any_attribute, attribute, label, mesh);
       uvs.resize(vertex_count);
       std::memcpy(uvs.data(), values.data(), values.size() * sizeof(float));
     };
@@ -423,13 +420,9 @@ class Loader {
       mesh.normals = std::move(computed);
       return;
     }
-    const std::vector<float> values =
-        accessors_.read_floats(found->second, 3,
-                    {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT},
-                    mesh.name + " NORMAL");
-    if (values.size() / 3 != vertex_count)
-      fail(label + ": NORMAL has " + std::to_string(values.size() / 3) + " elements for " + std::to_string(vertex_count) +
-           " positions");
+    const std::vector<float> values = read_vertex_attribute(
+        found->second, 3, {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT}, "NORMAL",
+        label, mesh);
     mesh.normals.resize(vertex_count);
     std::size_t repaired = 0;
     for (std::size_t v = 0; v < vertex_count; ++v) {
@@ -447,6 +440,19 @@ class Loader {
       warn(label + ": " + std::to_string(repaired) + " zero or non-finite normals replaced by area-weighted ones");
   }
 
+  /// The floats of per-vertex `attribute` of `mesh` (accessor `accessor`, `components` per element,
+  /// of the component types `allowed`); an element count other than the mesh's positions' is an
+  /// error naming `label`.
+  std::vector<float> read_vertex_attribute(int accessor, int components, std::initializer_list<int> allowed,
+                                           const std::string& attribute, const std::string& label, const Mesh& mesh) const {
+    std::vector<float> values = accessors_.read_floats(accessor, components, allowed, mesh.name + " " + attribute);
+    const std::size_t elements = values.size() / std::size_t(components);
+    if (elements != mesh.positions.size())
+      fail(label + ": " + attribute + " has " + std::to_string(elements) + " elements for " +
+           std::to_string(mesh.positions.size()) + " positions");
+    return values;
+  }
+
   /// TANGENT (float, or normalized byte or short under KHR_mesh_quantization): xyz normalized, w
   /// reduced to its sign. Zero or non-finite tangents are left all zero (those vertices' normal
   /// maps take the uv frame) and counted in a warning.
@@ -454,13 +460,9 @@ class Loader {
     const auto found = primitive.attributes.find("TANGENT");
     if (found == primitive.attributes.end()) return;
     const std::size_t vertex_count = mesh.positions.size();
-    const std::vector<float> values =
-        accessors_.read_floats(found->second, 4,
-                               {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT},
-                               mesh.name + " TANGENT");
-    if (values.size() / 4 != vertex_count)
-      fail(label + ": TANGENT has " + std::to_string(values.size() / 4) + " elements for " + std::to_string(vertex_count) +
-           " positions");
+    const std::vector<float> values = read_vertex_attribute(
+        found->second, 4, {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT}, "TANGENT",
+        label, mesh);
     mesh.tangents.assign(vertex_count, glm::vec4(0.0f));
     std::size_t unusable = 0;
     for (std::size_t v = 0; v < vertex_count; ++v) {
