@@ -80,6 +80,15 @@ def get(records, name, counter):
     return b.get(counter)
 
 
+def name_field(name, key):
+    """The value of `key:VALUE` in a benchmark's name ("efficiency/cornell/vpls:12/threads:2", "vpls"
+    gives "12"), or "—" when the name has none."""
+    for part in name.split("/"):
+        if part.startswith(key + ":"):
+            return part.split(":", 1)[1]
+    return "—"
+
+
 def table(header, rows):
     lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
     lines += ["| " + " | ".join(fmt(c) for c in row) + " |" for row in rows]
@@ -89,9 +98,9 @@ def table(header, rows):
 def efficiency_table(r):
     rows = []
     for name in sorted(k for k in r if k.startswith("efficiency/")):
-        scene, threads = name.split("/")[1], name.split(":")[-1]
+        scene, vpls, threads = name.split("/")[1], name_field(name, "vpls"), name.split(":")[-1]
         g = lambda c: get(r, name, c)
-        rows.append([scene, threads, g("pipeline_ms"), g("embree_ms"), g("efficiency"), g("efficiency_cpu"),
+        rows.append([scene, vpls, threads, g("pipeline_ms"), g("embree_ms"), g("efficiency"), g("efficiency_cpu"),
                      g("ceiling_ms"), g("efficiency_ceiling"), g("layout_cost"), g("ceiling_build_ms"),
                      g("ceiling_shadow_leaks"), g("ceiling_shadow_extra_blocks"),
                      g("embree_closest_ms"), g("embree_occlusion_ms"), g("embree_single_ms"), g("setup_ms"),
@@ -99,7 +108,7 @@ def efficiency_table(r):
                      g("cpu_share")])
     if not rows:
         return None
-    return table(["scene", "threads", "frame ms", "Embree alone ms", "**efficiency**", "efficiency by CPU time",
+    return table(["scene", "VPLs / pixel", "threads", "frame ms", "Embree alone ms", "**efficiency**", "efficiency by CPU time",
                   "ceiling ms", "**efficiency against the ceiling**", "igi layout / ceiling", "ceiling build ms",
                   "shadow rays leaking in the ceiling", "shadow rays blocked only in the ceiling",
                   "Embree: primary + secondary ms", "Embree: shadow ms", "Embree: VPL walks ms", "frame set-up ms",
@@ -275,19 +284,21 @@ def charts(r, results):
     names = sorted(k for k in r if k.startswith("efficiency/") and "skipped" not in r[k])
     if names:
         fig, ax = plt.subplots(figsize=(6, 3.2))
-        labels = [n.split("/")[1] for n in names]
+        labels = [f'{n.split("/")[1]}, {name_field(n, "vpls")} VPLs' for n in names]
         frame = [r[n]["pipeline_ms"] for n in names]
         parts = [("embree_closest_ms", "Embree: primary + secondary"), ("embree_occlusion_ms", "Embree: shadow"),
                  ("embree_single_ms", "Embree: VPL walks")]
         y = range(len(names))
-        ax.barh([i + 0.2 for i in y], frame, height=0.4, label="full frame", color="#888")
+        ax.barh([i + 0.27 for i in y], frame, height=0.27, label="full frame", color="#888")
         left = [0.0] * len(names)
         for key, label in parts:
             values = [r[n][key] for n in names]
-            ax.barh([i - 0.2 for i in y], values, height=0.4, left=left, label=label)
+            ax.barh(list(y), values, height=0.27, left=left, label=label)
             left = [a + b for a, b in zip(left, values)]
+        ax.barh([i - 0.27 for i in y], [r[n].get("ceiling_ms", 0.0) for n in names], height=0.27,
+                label="Embree alone on the ceiling scene", color="#444")
         ax.set_yticks(list(y), labels)
-        ax.set_xlabel("ms per frame (640x480, 16 VPLs)")
+        ax.set_xlabel("ms per frame (640x480)")
         ax.set_title("Pipeline against Embree alone on the same rays")
         save(fig, "efficiency.png", ax)
     # Table 3: Mrays/s per thread and ns per pixel against resolution.
