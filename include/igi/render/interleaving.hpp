@@ -48,9 +48,9 @@ struct PacketShape {
 /// The pixels of one packet: up to W of them, in lane order, `count` valid.
 template <int W>
 struct PixelPacket {
-  int x[W];       ///< Pixel columns (image coordinates).
-  int y[W];       ///< Pixel rows.
-  int count = 0;  ///< Valid lanes 0..count-1; the rest are masked off, never padded with fake rays.
+  int x[W];       ///< Pixel columns (image coordinates); lanes past `count` repeat lane 0's (make_set_packets).
+  int y[W];       ///< Pixel rows; lanes past `count` repeat lane 0's.
+  int count = 0;  ///< Valid lanes 0..count-1; the rest are masked off, never traced as rays.
 };
 
 /// Splits the pixels of set `set` inside `region` into packets of W sub-grid neighbours (blocks of
@@ -82,6 +82,12 @@ void make_set_packets(const PixelRect& region, int interleave, int set, std::vec
           p.y[p.count] = fy + gy * interleave;
           ++p.count;
         }
+      // Lanes past the count repeat the first pixel, so whole packets of coordinates can be
+      // loaded and used as indices (masked off afterwards).
+      for (int i = p.count; i < W; ++i) {
+        p.x[i] = p.x[0];
+        p.y[i] = p.y[0];
+      }
       packets.push_back(p);
     }
 }
