@@ -98,7 +98,7 @@ def table(header, rows):
 def efficiency_table(r):
     rows = []
     for name in sorted(k for k in r if k.startswith("efficiency/")):
-        scene, vpls, threads = name.split("/")[1], name_field(name, "vpls"), name.split(":")[-1]
+        scene, vpls, threads = name.split("/")[1], name_field(name, "vpls"), name_field(name, "threads")
         g = lambda c: get(r, name, c)
         rows.append([scene, vpls, threads, g("pipeline_ms"), g("embree_ms"), g("efficiency"), g("efficiency_cpu"),
                      g("ceiling_ms"), g("efficiency_ceiling"), g("layout_cost"), g("ceiling_build_ms"),

@@ -342,6 +342,23 @@ class Pipeline {
     }
   }
 
+  /// Sub-sample k's camera ray directions through pixels (x, y), zero on lanes off `active`:
+  /// trace_camera_rays and trace_primary make them with this one function, so a set's packets
+  /// get the very rays whose hits they take.
+  static vec3<W> camera_directions(const FrameState& frame, int k, const vint<W>& x, const vint<W>& y,
+                                   const vmask<W>& active) {
+    float dx = 0.5f, dy = 0.5f;
+    subsample_offset(k, frame.settings.antialiasing, dx, dy, frame.pixel_jitter);
+    return keep(frame.projection->direction(convert<float>(x) + vfloat<W>(dx), convert<float>(y) + vfloat<W>(dy)),
+                active);
+  }
+
+  /// Blocks of PacketShape<W> neighbouring pixels covering `region`: columns and rows of them.
+  static std::pair<int, int> camera_blocks(const PixelRect& region) noexcept {
+    using Shape = PacketShape<W>;
+    return {(region.width() + Shape::width - 1) / Shape::width, (region.height() + Shape::height - 1) / Shape::height};
+  }
+
   /// Step 2 for the camera rays of every sub-sample of `region`, before its sets are shaded:
   /// traced in packets of W neighbouring pixels (blocks of PacketShape<W>), whose rays stay
   /// closer together through the hierarchy than a set's, which lie S pixels apart (Sponza_lit,
@@ -351,8 +368,7 @@ class Pipeline {
   /// packets give.
   void trace_camera_rays(const FrameState& frame, const PixelRect& region, Workspace& work) const {
     using Shape = PacketShape<W>;
-    const int columns = (region.width() + Shape::width - 1) / Shape::width;
-    const int rows = (region.height() + Shape::height - 1) / Shape::height;
+    const auto [columns, rows] = camera_blocks(region);
     const int subsamples = frame.settings.antialiasing;
     const std::size_t blocks = std::size_t(columns) * std::size_t(rows);
     CameraHits& hits = work.camera_hits;
@@ -362,9 +378,7 @@ class Pipeline {
     const vint<W> lane_x([](int i) { return i % Shape::width; }), lane_y([](int i) { return i / Shape::width; });
     // One packet, made, traced and kept block after block, stays in the first-level cache.
     RayHitPacket<W>& packet = work.camera;
-    for (int k = 0; k < subsamples; ++k) {
-      float dx = 0.5f, dy = 0.5f;
-      subsample_offset(k, frame.settings.antialiasing, dx, dy, frame.pixel_jitter);
+    for (int k = 0; k < subsamples; ++k)
       for (int by = 0; by < rows; ++by)
         for (int bx = 0; bx < columns; ++bx) {
           vmask<W> active;
@@ -373,10 +387,8 @@ class Pipeline {
             const vint<W> x = vint<W>(region.x0 + bx * Shape::width) + lane_x;
             const vint<W> y = vint<W>(region.y0 + by * Shape::height) + lane_y;
             active = (x < vint<W>(region.x1)) & (y < vint<W>(region.y1));
-            const vec3<W> direction = keep(
-                frame.projection->direction(convert<float>(x) + vfloat<W>(dx), convert<float>(y) + vfloat<W>(dy)), active);
-            packet.rays.set(vec3<W>(eye), direction, vfloat<W>(0.0f), vfloat<W>(std::numeric_limits<float>::infinity()),
-                            active);
+            packet.rays.set(vec3<W>(eye), camera_directions(frame, k, x, y, active), vfloat<W>(0.0f),
+                            vfloat<W>(std::numeric_limits<float>::infinity()), active);
           }
           const StageTimer timer(work.timing(&StageTimes::closest));
           packet.hits.clear();
@@ -392,15 +404,13 @@ class Pipeline {
           keep_plane(packet.hits.geomID, hits.mesh);
           keep_plane(packet.hits.instID, hits.instance);
         }
-    }
   }
 
   /// Where trace_camera_rays left sub-sample k's ray through pixel (x, y) of `region`: its
   /// block's lanes, block after block, row by row, sub-sample after sub-sample.
   static vint<W> camera_hit_index(const PixelRect& region, int k, const vint<W>& x, const vint<W>& y) noexcept {
     using Shape = PacketShape<W>;
-    const int columns = (region.width() + Shape::width - 1) / Shape::width;
-    const int rows = (region.height() + Shape::height - 1) / Shape::height;
+    const auto [columns, rows] = camera_blocks(region);
     // Shapes are powers of two: shifts and masks, not the lane-by-lane integer divisions.
     constexpr int column_shift = std::countr_zero(unsigned(Shape::width)), row_shift = std::countr_zero(unsigned(Shape::height));
     const vint<W> column = x - vint<W>(region.x0), row = y - vint<W>(region.y0);
@@ -417,8 +427,6 @@ class Pipeline {
     const CameraHits& hits = work.camera_hits;
     const StageTimer timer(work.timing(&StageTimes::primary));
     level.resize(work.pixels.size());
-    float dx = 0.5f, dy = 0.5f;
-    subsample_offset(k, frame.settings.antialiasing, dx, dy, frame.pixel_jitter);
     const vec3<W> eye(frame.projection->origin());
     for (std::size_t p = 0; p < work.pixels.size(); ++p) {
       const PixelPacket<W>& pixels = work.pixels[p];
@@ -428,14 +436,12 @@ class Pipeline {
       packet.throughput = vec3<W>(glm::vec3(1.0f));
       // Lanes past the count hold the first lane's pixel (make_set_packets), so every gathered
       // index addresses an element; their ray and hit are then made what RayPacket::set and
-      // HitPacket::clear() make inactive lanes. The rays are trace_camera_rays' own, bit for bit:
-      // the same arithmetic on the same pixel coordinates.
+      // HitPacket::clear() make inactive lanes.
       const vint<W> x = vint<W>::load(pixels.x), y = vint<W>::load(pixels.y);
       const vmask<W>& active = packet.active;
-      const vec3<W> direction =
-          keep(frame.projection->direction(convert<float>(x) + vfloat<W>(dx), convert<float>(y) + vfloat<W>(dy)), active);
       const vint<W> at = camera_hit_index(region, k, x, y);
-      packet.rays.set(eye, direction, vfloat<W>(0.0f), gather_every(hits.distance.data(), at), active);
+      packet.rays.set(eye, camera_directions(frame, k, x, y, active), vfloat<W>(0.0f),
+                      gather_every(hits.distance.data(), at), active);
       packet.hits.clear();
       const vfloat<W> zero(0.0f);
       const vuint<W> no_id(invalid_id);
