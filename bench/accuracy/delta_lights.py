@@ -4,7 +4,8 @@ delta light (the sun of the window room, the blinds and Sponza_lit; the Cornell 
 area light, where both ways are the same image): 320x240, 16 VPLs per pixel, 3x3, the
 discontinuity and the a-trous filter, aa 1 and 4, with the sampler filters.py uses per scene;
 relMSE and RMSE against the path-traced references of methods.py (rendered here if WORK_DIR
-lacks them), each the mean over seeds 1-3, and the median ms per frame (2 threads).
+lacks them), each the mean over the seeds filters.py averages (1-8), and the median ms per frame
+(2 threads).
 
 usage: /usr/bin/python3 bench/accuracy/delta_lights.py BUILD_DIR WORK_DIR OUT_DIR [SCENES_DIR]
 writes OUT_DIR/delta_lights.csv and OUT_DIR/delta_lights_findings.txt.
