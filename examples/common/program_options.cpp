@@ -3,10 +3,13 @@
 
 #include <algorithm>
 #include <charconv>
+#include <iostream>
+#include <memory>
 #include <optional>
 #include <string_view>
 #include <system_error>
 
+#include "igi/io/environment_file.hpp"
 #include "igi/io/image.hpp"
 #include "igi/scene/cornell.hpp"
 #include "igi/scene/gltf.hpp"
@@ -48,19 +51,52 @@ double median(std::vector<double> values) {
 void add_scene_options(CommandLine& command_line, SceneOptions& scene) {
   command_line.add("scene", scene.scene_file, "glTF scene (.gltf or .glb)");
   command_line.add("--builtin", scene.builtin,
-                   "built-in scene instead of a file: cornell (the Cornell box), window (a furnished room lit by the sun and sky through one window) or blinds (that room with venetian blinds in the window: the sun in stripes)")
-      .choices({"cornell", "window", "blinds"});
+                   "built-in scene instead of a file: cornell (the Cornell box), window (a furnished room lit by the sun and sky through one window) or blinds (that room with venetian blinds in the window: the sun in stripes); window-sky and blinds-sky: those rooms under the sky instead of their sky panel; two-windows: the room under the sky with a second window in the left wall")
+      .choices({"cornell", "window", "blinds", "window-sky", "blinds-sky", "two-windows"});
+  command_line.add("--environment", scene.environment,
+                   "light from all around: an equirectangular HDR map (.exr, .hdr; +Y up, the top row the zenith, "
+                   "its left edge towards -Z), neutral (an overcast sky whose light on open ground is pi, beside the "
+                   "scene's lights) or none; by default the scene's own lights, and the neutral sky for a scene that has none");
+  command_line.add("--environment-scale", scene.environment_scale, "factor on the environment's radiance")
+      .range(0.0f, 1e30f)
+      .show_default();
+  command_line.add("--environment-rotation", scene.environment_rotation, "turn of the environment about +Y, degrees")
+      .range(-1e6f, 1e6f)
+      .show_default();
 }
 
 void check_scene_options(const SceneOptions& scene) {
-  if (scene.scene_file.empty() == scene.builtin.empty()) throw UsageError("give either a SCENE file or --builtin cornell|window|blinds");
+  if (scene.scene_file.empty() == scene.builtin.empty())
+    throw UsageError("give either a SCENE file or --builtin cornell|window|blinds|window-sky|blinds-sky|two-windows");
 }
 
-Scene load_scene(const SceneOptions& scene) {
-  if (scene.builtin.empty()) return load_gltf(scene.scene_file);
-  if (scene.builtin == "window") return window_room();
-  if (scene.builtin == "blinds") return window_room_with_blinds();
-  return cornell_box();
+Scene load_scene(const SceneOptions& options) {
+  Scene scene;
+  if (options.builtin.empty())
+    scene = load_gltf(options.scene_file);
+  else if (options.builtin == "window")
+    scene = window_room();
+  else if (options.builtin == "blinds")
+    scene = window_room_with_blinds();
+  else if (options.builtin == "window-sky")
+    scene = with_sky(window_room());
+  else if (options.builtin == "blinds-sky")
+    scene = with_sky(window_room_with_blinds());
+  else if (options.builtin == "two-windows")
+    scene = two_window_room();
+  else
+    scene = cornell_box();
+  if (options.environment == "none") {
+    scene.environment = nullptr;
+  } else if (options.environment == "neutral") {
+    scene.environment = std::make_shared<const Environment>(neutral_sky(options.environment_scale));
+  } else if (!options.environment.empty()) {
+    scene.environment = read_environment(options.environment, options.environment_scale, options.environment_rotation);
+  } else if (light_with_default_sky(scene, options.environment_scale)) {
+    std::cerr << "igi: scene '" << scene.name
+              << "' has no lights; it is lit by the neutral default sky (--environment FILE for another, --environment none for none)\n";
+  }
+  return scene;
 }
 
 void add_size_option(CommandLine& command_line, std::string& size) {
@@ -73,6 +109,16 @@ void add_sampling_options(CommandLine& command_line, RenderSettings& settings) {
   command_line.add("--vpls", settings.vpls_per_pixel, "VPLs per pixel (M, the target size of one interleaving set; a set holds at least one whole light path, so small M round up: about 2-3 VPLs in a closed room)").show_default();
   command_line.add("--interleave", settings.interleave, "interleaving pattern size S (S x S VPL sets)").show_default();
   command_line.add("--aa", settings.antialiasing, "primary rays per pixel N (interleaved super-sampling)").show_default();
+  command_line.add("--environment-directions", settings.environment_directions,
+                   "directional VPLs carrying the environment's direct light, drawn by its brightness and shared by "
+                   "every pixel (each costs a shadow ray per pixel besides the --vpls)")
+      .range(0, max_environment_directions)
+      .show_default();
+  command_line.add("--portal-share", settings.portal_share,
+                   "share of the sun's and the sky's light particles aimed through the openings (windows) by which "
+                   "their light reaches the view, found each frame; the rest spread over the scene (0: none, the paper)")
+      .range(0.0, 0.99)
+      .show_default();
 }
 
 void add_temporal_option(CommandLine& command_line, RenderSettings& settings) {

@@ -39,13 +39,19 @@ double median(std::vector<double> values);
 struct SceneOptions {
   std::string scene_file;  ///< glTF file, or empty with --builtin.
   std::string builtin;     ///< "cornell" or "window", or empty with a file.
+  /// --environment: an equirectangular HDR map's file, "neutral" (neutral_sky()), "none", or
+  /// empty for the scene's own light (the neutral sky where it has none).
+  std::string environment;
+  float environment_scale = 1.0f;     ///< --environment-scale: factor on the environment's radiance.
+  float environment_rotation = 0.0f;  ///< --environment-rotation: degrees about +Y.
 };
 
-/// Adds the positional SCENE file and --builtin.
+/// Adds the positional SCENE file, --builtin and the environment's options.
 void add_scene_options(CommandLine& command_line, SceneOptions& scene);
 /// Throws UsageError unless exactly one of a SCENE file and --builtin was given.
 void check_scene_options(const SceneOptions& scene);
-/// The scene the options name (loads the glTF file, or builds the built-in scene).
+/// The scene the options name (loads the glTF file, or builds the built-in scene) with the
+/// environment they name; a scene without light gets the neutral sky, said in one line on stderr.
 Scene load_scene(const SceneOptions& scene);
 
 /// Adds --size WIDTHxHEIGHT (the text is parsed later, by parse_image_size).

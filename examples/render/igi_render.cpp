@@ -20,6 +20,7 @@
 #include "igi/render/animation.hpp"
 #include "common/importance_sampler.hpp"
 #include "igi/render/filter_choice.hpp"
+#include "igi/render/light_check.hpp"
 #include "igi/render/path_tracer.hpp"
 #include "igi/render/renderer.hpp"
 #include "igi/shading/brdf_shaders.hpp"
@@ -72,6 +73,12 @@ void report(const igi::Scene& scene, const Options& options, const char* backend
   std::printf("wrote %s\n", written.c_str());
 }
 
+/// Names on stderr an image that is black or far darker than the scene's lights would make it (igi::light_warning).
+void warn_if_dark(const igi::Scene& scene, const igi::Image& hdr) {
+  if (const std::string warning = igi::light_warning(scene, hdr); !warning.empty())
+    std::cerr << "igi-render: warning: " << warning << "\n";
+}
+
 /// Renders with the IGI pipeline over backend B and writes the image and statistics.
 template <class B>
 int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options) {
@@ -101,6 +108,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
   }
   progress.finish();
   if (!sequence) write_output(options.output, frame.hdr, frame.rgb8);
+  warn_if_dark(scene, frame.hdr);
   const std::string written = sequence ? names(0).string() + " .. " + names(options.frames - 1).string() + " (" +
                                              std::to_string(options.frames) + " frames)"
                                        : options.output;
@@ -164,6 +172,7 @@ int run_path(igi::Scene& scene, const igi::Camera& camera, const Options& option
       p[2] = q.b;
     }
   write_output(options.output, hdr, rgb8);
+  warn_if_dark(scene, hdr);
   igi::RayCounts per_pass = tracer.statistics().rays;
   const auto passes = std::uint64_t(options.frames);
   per_pass = {per_pass.primary / passes, per_pass.shadow / passes, per_pass.secondary / passes};

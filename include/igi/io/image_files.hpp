@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// Reading and writing images as PNG (stb), EXR (tinyexr) and PFM (written here), chosen by the
-/// file extension. Writes are atomic: the data goes to a temporary file in the target's
+/// Reading and writing images as PNG (stb), EXR (tinyexr), PFM (written here) and Radiance HDR
+/// (stb), chosen by the file extension. Writes are atomic: the data goes to a temporary file in the target's
 /// directory, which is then renamed over the target. The codecs are IGI_INLINE functions
 /// (igi/config.hpp): a program built with IGI_SEPARATE_COMPILATION compiles them, and includes
 /// stb and tinyexr, in its one igi/separate_compilation.hpp translation unit only.
@@ -28,6 +28,7 @@ enum class ImageFormat {
   png,  ///< 8-bit sRGB PNG (stb).
   exr,  ///< 32-bit float OpenEXR (tinyexr).
   pfm,  ///< 32-bit float portable float map.
+  hdr,  ///< Radiance RGBE (.hdr), the common format of HDR environment maps (stb).
 };
 
 /// The format named by `path`'s extension (.png, .exr, .pfm; any letter case), else ImageError.
@@ -38,7 +39,8 @@ inline ImageFormat image_format(const std::filesystem::path& path) {
   if (extension == ".png") return ImageFormat::png;
   if (extension == ".exr") return ImageFormat::exr;
   if (extension == ".pfm") return ImageFormat::pfm;
-  detail::image_error(path, "unknown image extension '" + path.extension().string() + "' (expected .png, .exr or .pfm)");
+  if (extension == ".hdr") return ImageFormat::hdr;
+  detail::image_error(path, "unknown image extension '" + path.extension().string() + "' (expected .png, .exr, .pfm or .hdr)");
 }
 
 /// Writes `image` to `path` in the format of its extension (PNG: sRGB 8-bit, clamped to [0, 1]).

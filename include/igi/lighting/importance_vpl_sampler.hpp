@@ -16,7 +16,7 @@
 /// add nothing to the view (they light the ground and the walls' outsides), 80% in Sponza_lit,
 /// none in the Cornell box; dropping such candidates needs no second pass, only their view
 /// contribution, and BIR's reverse VPLs would add nothing where there is nothing to drop. The
-/// result (README, "VPL samplers"): at equal frame time the window room's relMSE falls 15x at
+/// result (docs/accuracy.md, "VPL samplers"): at equal frame time the window room's relMSE falls 15x at
 /// 8 VPLs, 4x at 16 and 1.4x at 32 (both samplers near their floors), Sponza_lit's 1.04-1.3x (its
 /// error is mostly the clamp's and the pixel-centre sampling's bias), the Cornell box's VPLs are QMC's.
 ///
@@ -229,7 +229,8 @@ class ImportanceVplSampler {
                                   std::to_string(frame_settings.view->clamp_distance));
     VplSettings settings = frame_settings;
     if (settings.scene_bounds.empty()) settings.scene_bounds = scene.bounds();
-    const LightSet lights(scene, settings.scene_bounds);
+    const SceneGeometry geometry(scene);
+    const LightSet lights = QmcVplSampler::frame_lights(scene, geometry, tracer, shader, settings);
     ImportanceVplGeneration out;
     VplGeneration& generation = out.generation;
     const auto sets = std::size_t(settings.sets);
@@ -238,8 +239,12 @@ class ImportanceVplSampler {
     out.probability.resize(sets);
     if (lights.empty()) return out;
 
-    const SceneGeometry geometry(scene);
-    const std::vector<Vpl> exact = QmcVplSampler::exact_vpls(lights);
+    std::vector<Vpl> exact = QmcVplSampler::exact_vpls(lights);
+    const std::size_t delta_lights = exact.size();
+    {
+      const std::vector<Vpl> sky = QmcVplSampler::environment_vpls(scene, settings, hash(settings.seed, settings.frame));
+      exact.insert(exact.end(), sky.begin(), sky.end());
+    }
     const ViewImportance view(view_points(scene, geometry, tracer, shader, settings), settings.view->clamp_distance,
                               settings.scene_bounds);
     out.view_points = int(view.points().size());
@@ -271,7 +276,7 @@ class ImportanceVplSampler {
       }
       return qmc;
     }
-    const double budget = std::max(1.0, double(settings.vpls_per_set) - double(exact.size()));
+    const double budget = std::max(1.0, double(settings.vpls_per_set) - double(delta_lights));
     const double per_walk = std::max(pilot.vpls_per_walk, 1.0 / double(pilot.walks));
     long walks = 1;
     {
@@ -415,37 +420,19 @@ class ImportanceVplSampler {
     constexpr std::uint32_t jitter_salt = 0x6a697474u;
     const std::uint32_t jitter = hash(hash(settings.seed, settings.frame), jitter_salt);
     const float offset = ray_offset(settings.scene_bounds);
-    const vmask<1> one(true);
     std::vector<ViewPoint> points;
     for (int row = 0; row < rows; ++row)
       for (int column = 0; column < columns; ++column) {
         const std::uint32_t cell = hash(jitter, std::uint32_t(row * columns + column));
         const float px = (float(column) + to_unit_float(hash(cell, 0u))) * width / float(columns);
         const float py = (float(row) + to_unit_float(hash(cell, 1u))) * height / float(rows);
-        glm::vec3 origin = projection.origin();
         const glm::vec3 direction = projection.direction(px, py);
-        float start = 0.0f;
-        for (int layer = 0; layer <= max_cutout_layers; ++layer) {
-          RayPacket<1> ray;
-          ray.set(vec3<1>(origin), vec3<1>(direction), vfloat<1>(start), vfloat<1>(std::numeric_limits<float>::infinity()),
-                  one);
-          HitPacket<1> hit;
-          hit.clear();
-          tracer.intersect(ray, hit, one);
-          if (hit.geomID[0] == invalid_id) break;
-          const SurfaceHit<1> surface = make_surface_hit(scene, geometry, ray, hit, one);
-          const BrdfParameters<1> parameters = shader.shade(surface, one);
-          if (!parameters.opaque[0]) {
-            origin = surface.position[0];
-            start = offset;
-            continue;
-          }
-          const glm::vec3 reflectance = glm::clamp(parameters.albedo[0] + parameters.glossy[0], glm::vec3(0.0f), glm::vec3(1.0f));
-          const float reflected = luminance(reflectance) * inv_pi;
-          if (reflected > 0.0f && std::isfinite(reflected))
-            points.push_back({.position = surface.position[0], .normal = surface.geometric_normal[0], .reflectance = reflected});
-          break;
-        }
+        const std::optional<OpaqueHit> hit = first_opaque_hit(scene, geometry, tracer, shader, projection.origin(), direction, 0.0f, offset);
+        if (!hit) continue;
+        const glm::vec3 reflectance = glm::clamp(hit->parameters.albedo[0] + hit->parameters.glossy[0], glm::vec3(0.0f), glm::vec3(1.0f));
+        const float reflected = luminance(reflectance) * inv_pi;
+        if (reflected > 0.0f && std::isfinite(reflected))
+          points.push_back({.position = hit->surface.position[0], .normal = hit->surface.geometric_normal[0], .reflectance = reflected});
       }
     return points;
   }

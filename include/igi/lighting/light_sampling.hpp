@@ -2,7 +2,8 @@
 /// \file
 /// Light sampling with densities, for next-event estimation with multiple importance sampling
 /// in the reference path tracer. `LightSampler` holds the same lights as `LightSet` (emissive
-/// triangles of every instance, KHR punctual point / spot / directional lights), picks one in
+/// triangles of every instance, KHR punctual point / spot / directional lights, the environment,
+/// sampled by its map's distribution and combined with BRDF sampling by MIS), picks one in
 /// proportion to the same power weight (mean RGB power), and for area lights samples a point
 /// uniformly on the triangle and reports the solid-angle density, so a BRDF-sampled ray that
 /// hits an emitter can ask `pdf` for the density light sampling would have had.
@@ -19,6 +20,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <vector>
 
@@ -111,6 +113,14 @@ class LightSampler {
       }
       add(light, weight);
     }
+    if (scene.environment && scene.environment->emits()) {
+      // Chosen by the flux it sends through the scene's bounding sphere's disc, as LightSet weighs it.
+      const float radius = bounds.empty() ? 0.0f : 0.5f * glm::length(bounds.extent());
+      Light light;
+      light.kind = Kind::environment;
+      environment_ = scene.environment;
+      environment_index_ = add(light, mean(environment_->integral()) * std::numbers::pi_v<float> * radius * radius);
+    }
     normalise();
   }
 
@@ -130,6 +140,15 @@ class LightSampler {
     const std::size_t index = std::size_t(it - cumulative_.begin());
     const Light& light = lights_[index];
     const float choice = probability_[index];
+    if (light.kind == Kind::environment) {
+      const EnvironmentSample sky = environment_->sample(u1, u2);
+      if (!(sky.pdf > 0.0f)) return s;
+      s.wi = sky.direction;
+      s.distance = std::numeric_limits<float>::infinity();
+      s.incident = sky.radiance;
+      s.pdf = choice * sky.pdf;
+      return s;
+    }
     if (light.kind == Kind::directional) {
       s.wi = -light.normal;
       s.distance = std::numeric_limits<float>::infinity();
@@ -170,9 +189,22 @@ class LightSampler {
         s.delta = true;
         break;
       }
-      case Kind::directional: break;  // handled above
+      case Kind::directional:
+      case Kind::environment: break;  // handled above
     }
     return s;
+  }
+
+  /// True if the scene has an environment that emits.
+  bool has_environment() const noexcept { return environment_index_ >= 0; }
+  /// Radiance the environment sends along unit direction `-direction` (that is, seen looking
+  /// along `direction`); zero without one.
+  glm::vec3 environment_radiance(const glm::vec3& direction) const noexcept {
+    return environment_index_ >= 0 ? environment_->radiance(direction) : glm::vec3(0.0f);
+  }
+  /// Solid-angle density of `sample` picking the environment's unit direction `direction` (choice included); 0 without one.
+  float environment_pdf(const glm::vec3& direction) const noexcept {
+    return environment_index_ >= 0 ? probability_[std::size_t(environment_index_)] * environment_->pdf(direction) : 0.0f;
   }
 
   /// Solid-angle density of `sample` picking `light_point` on triangle `triangle` of instance `instance` from `receiver`.
@@ -192,7 +224,7 @@ class LightSampler {
   }
 
  private:
-  enum class Kind { triangle, point, spot, directional };
+  enum class Kind { triangle, point, spot, directional, environment };
   struct Light {
     Kind kind = Kind::point;
     glm::vec3 position{0.0f}, edge1{0.0f}, edge2{0.0f}, normal{0.0f, 0.0f, 1.0f}, radiance{0.0f};
@@ -220,6 +252,8 @@ class LightSampler {
   std::vector<double> cumulative_;
   double total_weight_ = 0.0;
   std::vector<std::vector<int>> triangle_light_;
+  std::shared_ptr<const Environment> environment_;  ///< The scene's environment, if it emits.
+  int environment_index_ = -1;                      ///< Its index among the lights, or -1.
 };
 
 }  // namespace igi

@@ -4,7 +4,7 @@
 /// emission from four uniform numbers: where a light particle starts, where it goes, how much
 /// flux it carries, and the VPL that stands for the emitter at that point. `LightSet` collects
 /// a scene's emitters (emissive triangles as area lights, KHR punctual point / spot /
-/// directional lights) plus any user-defined ones, and picks among them in proportion to power.
+/// directional lights, the environment) plus any user-defined ones, and picks among them in proportion to power.
 ///
 /// Conventions: a sample describes the emitter as if that one particle carried its whole power
 /// (`flux` has expectation `power()`, the VPL's sum over samples is the emitter's light); a
@@ -15,6 +15,7 @@
 #include <cmath>
 #include <concepts>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
@@ -25,7 +26,9 @@
 #include <glm/glm.hpp>
 
 #include "igi/lighting/vpl.hpp"
+#include "igi/scene/environment.hpp"
 #include "igi/scene/scene.hpp"
+#include "igi/simd/sampling.hpp"
 
 namespace igi {
 
@@ -36,6 +39,9 @@ struct EmissionSample {
   glm::vec3 origin{0.0f};      ///< Where the particle starts.
   glm::vec3 direction{0.0f, 0.0f, 1.0f};  ///< Unit direction the particle leaves in.
   glm::vec3 flux{0.0f};        ///< Flux the particle carries (W); its expectation is the emitter's power.
+  /// False where `vpl` does not stand for the emitter's direct light: the environment's, which
+  /// its shared directional VPLs carry (EnvironmentLight::directional_vpls); its particles only walk.
+  bool leaves_vpl = true;
 };
 
 /// What an emitter provides: `power()` (W, RGB) and `sample_emission(u1, u2, u3, u4)` with the
@@ -235,6 +241,97 @@ class SpotEmitter {
   float cos_inner_ = 1.0f, cos_outer_ = 0.0f, profile_solid_angle_ = 0.0f;
 };
 
+/// A view point particles are aimed at, and the radius about its line they start within.
+struct AimPoint {
+  glm::vec3 point{0.0f};  ///< World position.
+  float spread = 0.0f;    ///< Radius about the line through `point`: about the distance to its neighbouring view points.
+};
+
+/// Openings through which light from infinitely far away (the sun, the sky) reaches what the
+/// camera sees, found each frame by rays from the view's points that leave the scene
+/// (find_portals in portals.hpp). A `share` of the particles of directional lights and of the
+/// environment is aimed along those rays, the rest spread as without portals: the density of
+/// the mixture weighs every particle, so the light's estimate keeps its expectation while far
+/// more particles pass the window of a room the camera is in.
+struct Portals {
+  /// For each punctual light of the scene, by its index (empty for all but directional
+  /// lights): view points from which a ray towards the light left the scene.
+  std::vector<std::vector<AimPoint>> sunlit;
+  std::vector<AimPoint> sky_points;       ///< View points from which a ray towards the environment left the scene.
+  std::vector<glm::vec3> sky_directions;  ///< Those rays' unit directions, towards the sky.
+  float share = 0.0f;                     ///< Fraction of the particles aimed, in [0, 1).
+  /// True if some particle would be aimed.
+  bool any() const noexcept {
+    if (!(share > 0.0f)) return false;
+    if (!sky_points.empty()) return true;
+    for (const auto& points : sunlit)
+      if (!points.empty()) return true;
+    return false;
+  }
+};
+
+/// Half-angle of the cone about an escape direction within which aimed sky particles travel:
+/// 0.1 rad (6 degrees), about the angle between neighbouring escape rays of one view point, and
+/// half the angle a 2 m window subtends from 10 m, so most aimed particles still pass.
+inline constexpr float portal_cone_angle = 0.1f;
+
+namespace light_detail {
+/// `target`'s line moved onto the disc's plane (centre `centre`, normal `direction`).
+inline glm::vec3 on_disc_plane(const AimPoint& target, const glm::vec3& centre, const glm::vec3& direction) noexcept {
+  return target.point + direction * glm::dot(centre - target.point, direction);
+}
+/// The aimed particles' start about a target's line: density 2 / (pi r^2) x (1 - d^2 / r^2) at
+/// distance d within its spread r, per unit area. A kernel that falls to zero at its edge, so a
+/// point's density is continuous in the target's position: the float rounding by which backends'
+/// hit points differ moves a particle's weight by as little, where a uniform disc's edge would
+/// flip it between two weights.
+inline float aim_kernel(float distance2, float spread) noexcept {
+  const float spread2 = spread * spread;
+  return distance2 < spread2 ? 2.0f / (std::numbers::pi_v<float> * spread2) * (1.0f - distance2 / spread2) : 0.0f;
+}
+/// A point drawn from aim_kernel about `centre` (in the plane spanned by `t1`, `t2`) from (u1, u2):
+/// with s = d^2 / r^2 of density 2 (1 - s), s = 1 - sqrt(1 - u1).
+inline glm::vec3 aim_point(const glm::vec3& centre, const glm::vec3& t1, const glm::vec3& t2, float spread, float u1,
+                           float u2) noexcept {
+  const float r = spread * std::sqrt(std::max(0.0f, 1.0f - std::sqrt(1.0f - u1))), phi = 2.0f * std::numbers::pi_v<float> * u2;
+  return centre + t1 * (r * std::cos(phi)) + t2 * (r * std::sin(phi));
+}
+/// Density, per unit area of the plane through the disc, of points aimed at `targets` (each
+/// moved along `direction` onto that plane: the disc's centre is `centre`, its normal
+/// `direction`) by aim_kernel, each target equally likely, weighted by `weight(k)` (a direction's
+/// kernel, or 1); 0 for no targets.
+template <class Weight>
+float aimed_density(const glm::vec3& point, const glm::vec3& centre, const glm::vec3& direction,
+                    const std::vector<AimPoint>& targets, const Weight& weight) noexcept {
+  if (targets.empty()) return 0.0f;
+  float density = 0.0f;
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    const float w = weight(k);
+    if (!(w > 0.0f)) continue;
+    const glm::vec3 offset = point - on_disc_plane(targets[k], centre, direction);
+    density += w * aim_kernel(glm::dot(offset, offset), targets[k].spread);
+  }
+  return density / float(targets.size());
+}
+/// Density of the uniform point on the disc of `radius` about `centre` (in its plane): 1 / area inside, 0 outside.
+inline float disc_density(const glm::vec3& point, const glm::vec3& centre, float radius) noexcept {
+  const glm::vec3 offset = point - centre;
+  return radius > 0.0f && glm::dot(offset, offset) <= radius * radius ? 1.0f / (std::numbers::pi_v<float> * radius * radius) : 0.0f;
+}
+/// A uniform point on the disc of `radius` about `centre` spanned by `t1`, `t2`, from (u1, u2).
+inline glm::vec3 disc_point(const glm::vec3& centre, const glm::vec3& t1, const glm::vec3& t2, float radius, float u1,
+                            float u2) noexcept {
+  const float r = radius * std::sqrt(u1), phi = 2.0f * std::numbers::pi_v<float> * u2;
+  return centre + t1 * (r * std::cos(phi)) + t2 * (r * std::sin(phi));
+}
+/// `u` in [0, 1) split at `share`: whether it fell below, and it rescaled to [0, 1) within its part.
+inline std::pair<bool, float> split(float u, float share) noexcept {
+  constexpr float below_one = 0x1.fffffep-1f;
+  if (u < share) return {true, std::min(u / share, below_one)};
+  return {false, std::min((u - share) / (1.0f - share), below_one)};
+}
+}  // namespace light_detail
+
 /// A directional light of irradiance `irradiance` (W/m^2 on a perpendicular surface). Particles
 /// start on a disc perpendicular to the light that covers the scene's bounding sphere, placed
 /// upstream of it, so every point of the scene is reachable and the disc's power is the light
@@ -251,15 +348,36 @@ class DirectionalEmitter {
     }
     orthonormal_basis(direction_, t1_, t2_);
   }
+  /// The light with a `share` of its particles aimed at `targets` (view points it reaches from
+  /// outside, Portals::sunlit): they start within the targets' spread of their lines; none if empty.
+  DirectionalEmitter(const glm::vec3& direction, const glm::vec3& irradiance, const Bounds& scene_bounds,
+                     std::vector<AimPoint> targets, float share)
+      : DirectionalEmitter(direction, irradiance, scene_bounds) {
+    if (!targets.empty() && share > 0.0f && share < 1.0f) {
+      targets_ = std::move(targets);
+      share_ = share;
+    }
+  }
   /// Irradiance x disc area.
   glm::vec3 power() const noexcept { return irradiance_ * (std::numbers::pi_v<float> * radius_ * radius_); }
-  /// Uniform point on the disc from (u1, u2).
-  EmissionSample sample_emission(float u1, float u2, float, float) const noexcept {
-    const float r = radius_ * std::sqrt(u1), phi = 2.0f * std::numbers::pi_v<float> * u2;
+  /// A point on the disc from (u1, u2): uniform over it, or with an aimed share (picked by u3,
+  /// the target by u4) about a target's line (aim_kernel); flux irradiance / density.
+  EmissionSample sample_emission(float u1, float u2, float u3, float u4) const noexcept {
     EmissionSample sample;
-    sample.origin = center_ + t1_ * (r * std::cos(phi)) + t2_ * (r * std::sin(phi));
-    sample.direction = direction_;
+    sample.origin = light_detail::disc_point(center_, t1_, t2_, radius_, u1, u2);
     sample.flux = power();
+    if (!targets_.empty()) {
+      if (light_detail::split(u3, share_).first) {
+        const AimPoint& target = targets_[std::min(std::size_t(u4 * float(targets_.size())), targets_.size() - 1)];
+        sample.origin = light_detail::aim_point(light_detail::on_disc_plane(target, center_, direction_), t1_, t2_,
+                                                target.spread, u1, u2);
+      }
+      const float density = (1.0f - share_) * light_detail::disc_density(sample.origin, center_, radius_) +
+                            share_ * light_detail::aimed_density(sample.origin, center_, direction_, targets_,
+                                                                 [](std::size_t) { return 1.0f; });
+      sample.flux = density > 0.0f ? irradiance_ / density : glm::vec3(0.0f);
+    }
+    sample.direction = direction_;
     sample.vpl = {.position = sample.origin, .normal = direction_, .intensity = irradiance_, .kind = VplKind::directional};
     return sample;
   }
@@ -269,6 +387,134 @@ class DirectionalEmitter {
  private:
   glm::vec3 direction_, irradiance_, center_{0.0f}, t1_{1, 0, 0}, t2_{0, 1, 0};
   float radius_ = 0.0f;
+  std::vector<AimPoint> targets_;  ///< View points the aimed particles go to; empty: none aimed.
+  float share_ = 0.0f;
+};
+
+/// The environment (a sky) as a light. Its direct light reaches the view through a few
+/// directional VPLs shared by every interleaving set (directional_vpls), drawn in proportion to
+/// the environment's light, so each pixel sees the same sky and no per-pixel noise is left for
+/// the filter. Its light particles, which carry the sky's light into the scene for the bounce
+/// light, start on a disc perpendicular to a sampled direction that covers the scene's
+/// bounding sphere, upstream of it, as a directional light's do.
+class EnvironmentLight {
+ public:
+  /// `environment` (shared) around a scene of world `scene_bounds`.
+  EnvironmentLight(std::shared_ptr<const Environment> environment, const Bounds& scene_bounds)
+      : environment_(std::move(environment)) {
+    if (!environment_) throw std::invalid_argument("EnvironmentLight: no environment");
+    if (!scene_bounds.empty()) {
+      radius_ = 0.5f * glm::length(scene_bounds.extent());
+      center_ = scene_bounds.center();
+    }
+  }
+  /// The light with a `share` of its particles aimed along the escape rays (`points`,
+  /// unit `directions` towards the sky; Portals::sky_points, sky_directions): a direction within
+  /// portal_cone_angle of one, a start within its point's spread of its line; none aimed if empty.
+  EnvironmentLight(std::shared_ptr<const Environment> environment, const Bounds& scene_bounds, std::vector<AimPoint> points,
+                   std::vector<glm::vec3> directions, float share)
+      : EnvironmentLight(std::move(environment), scene_bounds) {
+    if (!points.empty() && points.size() == directions.size() && share > 0.0f && share < 1.0f) {
+      aimed_points_ = std::move(points);
+      aimed_directions_ = std::move(directions);
+      share_ = share;
+    }
+  }
+  /// The environment.
+  const Environment& environment() const noexcept { return *environment_; }
+  /// The flux that crosses the disc from every direction: pi r^2 x the radiance's integral over the sphere.
+  glm::vec3 power() const noexcept { return environment_->integral() * (std::numbers::pi_v<float> * radius_ * radius_); }
+  /// A particle: direction from (u3, u4) in proportion to the light, a uniform point on that
+  /// direction's disc from (u1, u2); flux L / density (density per unit solid angle and disc
+  /// area, pdf / pi r^2 without aiming), whose expectation is power(). With escape rays, u3
+  /// first picks an aimed share: then u3 (rescaled) picks the ray and with u4 a direction in
+  /// its cone (cone_kernel), and (u1, u2) a start about its line (aim_kernel).
+  EmissionSample sample_emission(float u1, float u2, float u3, float u4) const noexcept {
+    EmissionSample sample;
+    sample.leaves_vpl = false;
+    sample.flux = glm::vec3(0.0f);
+    const auto [aimed, u] = aimed_points_.empty() ? std::pair<bool, float>{false, u3} : light_detail::split(u3, share_);
+    glm::vec3 to_sky;
+    if (aimed) {
+      const std::size_t count = aimed_points_.size();
+      const std::size_t k = std::min(std::size_t(u * float(count)), count - 1);
+      const float within = std::min(u * float(count) - float(k), 0x1.fffffep-1f);
+      // In the cone by cone_kernel: t = (1 - cos theta) / (1 - cos angle) of density 2 (1 - t).
+      const float t = 1.0f - std::sqrt(1.0f - within);
+      const float cos_theta = 1.0f - t * (1.0f - cos_cone_), sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+      const float phi = 2.0f * std::numbers::pi_v<float> * u4;
+      glm::vec3 a1, a2;
+      orthonormal_basis(aimed_directions_[k], a1, a2);
+      to_sky = glm::normalize(a1 * (sin_theta * std::cos(phi)) + a2 * (sin_theta * std::sin(phi)) + aimed_directions_[k] * cos_theta);
+    } else {
+      const EnvironmentSample sky = environment_->sample(u, u4);
+      if (!(sky.pdf > 0.0f)) return sample;
+      to_sky = sky.direction;
+    }
+    glm::vec3 t1, t2;
+    orthonormal_basis(to_sky, t1, t2);
+    const glm::vec3 centre = center_ + to_sky * radius_;
+    if (aimed) {
+      const AimPoint& target = aimed_points_[std::min(std::size_t(u * float(aimed_points_.size())), aimed_points_.size() - 1)];
+      sample.origin = light_detail::aim_point(light_detail::on_disc_plane(target, centre, to_sky), t1, t2, target.spread, u1, u2);
+    } else {
+      sample.origin = light_detail::disc_point(centre, t1, t2, radius_, u1, u2);
+    }
+    sample.direction = -to_sky;
+    const float density = emission_density(sample.origin, to_sky, centre);
+    if (density > 0.0f) sample.flux = environment_->radiance(to_sky) / density;
+    sample.vpl = {.position = sample.origin, .normal = sample.direction, .intensity = glm::vec3(0.0f), .kind = VplKind::directional};
+    return sample;
+  }
+  /// `count` directional VPLs that together estimate the environment's direct light: directions
+  /// from the first `count` points of the Halton sequence scrambled by `scramble` (bases 2 and 3,
+  /// well spread over the map's distribution), each of irradiance L / (count x pdf), so their sum
+  /// over a receiver's visible directions is an unbiased estimate of its irradiance.
+  std::vector<Vpl> directional_vpls(int count, std::uint32_t scramble) const {
+    std::vector<Vpl> vpls;
+    if (count <= 0 || !environment_->emits()) return vpls;
+    const Halton halton(scramble);
+    vpls.reserve(std::size_t(count));
+    for (int k = 0; k < count; ++k) {
+      const EnvironmentSample sky = environment_->sample(halton.sample(0, std::uint64_t(k)), halton.sample(1, std::uint64_t(k)));
+      if (!(sky.pdf > 0.0f) || !(light_detail::largest_component(sky.radiance) > 0.0f)) continue;
+      vpls.push_back({.position = center_ + sky.direction * radius_,
+                      .normal = -sky.direction,
+                      .intensity = sky.radiance / (float(count) * sky.pdf),
+                      .kind = VplKind::directional});
+    }
+    return vpls;
+  }
+  /// Radius of the emitting disc (the scene's bounding sphere).
+  float radius() const noexcept { return radius_; }
+
+ private:
+  /// Density of a particle travelling from unit direction `to_sky` that starts at `origin` on
+  /// that direction's disc (centred at `centre`), per unit solid angle and disc area: the
+  /// mixture of the map's directions over the whole disc and the aimed share.
+  float emission_density(const glm::vec3& origin, const glm::vec3& to_sky, const glm::vec3& centre) const noexcept {
+    const float spread_out = environment_->pdf(to_sky) * light_detail::disc_density(origin, centre, radius_);
+    if (aimed_points_.empty()) return spread_out;
+    const float aimed = light_detail::aimed_density(origin, centre, to_sky, aimed_points_,
+                                                    [&](std::size_t k) { return cone_kernel(glm::dot(to_sky, aimed_directions_[k])); });
+    return (1.0f - share_) * spread_out + share_ * aimed;
+  }
+  /// Solid-angle density of an aimed direction at cosine `cosine` from its escape ray's: 2 (1 - t)
+  /// over the cone's solid angle, t = (1 - cosine) / (1 - cos angle), falling to zero at the
+  /// cone's edge (continuous, as aim_kernel is, so backends' rounding moves weights little).
+  float cone_kernel(float cosine) const noexcept {
+    if (!(cosine > cos_cone_)) return 0.0f;
+    const float t = (1.0f - cosine) / (1.0f - cos_cone_);
+    return 2.0f * (1.0f - t) / (2.0f * std::numbers::pi_v<float> * (1.0f - cos_cone_));
+  }
+
+  std::shared_ptr<const Environment> environment_;
+  glm::vec3 center_{0.0f};
+  float radius_ = 0.0f;
+  std::vector<AimPoint> aimed_points_;       ///< Where the escape rays the aimed particles follow start; empty: none aimed.
+  std::vector<glm::vec3> aimed_directions_;  ///< Their directions, towards the sky.
+  float share_ = 0.0f;
+  float cos_cone_ = std::cos(portal_cone_angle);
 };
 
 /// The VPL's emitted flux as the pipeline will see it: pi x intensity for surface VPLs, 4 pi x
@@ -295,8 +541,9 @@ class LightSet {
   /// std::invalid_argument on a light with negative, non-finite or directionless parameters.
   explicit LightSet(const Scene& scene) : LightSet(scene, scene.bounds()) {}
   /// LightSet(scene) with the scene's world `bounds` given (SceneBounds), sparing a walk over
-  /// every vertex; they place the lights at infinity.
-  LightSet(const Scene& scene, const Bounds& bounds) {
+  /// every vertex; they place the lights at infinity. With `portals`, the particles of
+  /// directional lights and of the environment are partly aimed through them.
+  LightSet(const Scene& scene, const Bounds& bounds, const Portals* portals = nullptr) {
     for (const Instance& instance : scene.instances) {
       if (instance.mesh < 0 || std::size_t(instance.mesh) >= scene.meshes.size())
         throw std::invalid_argument("LightSet: instance '" + instance.name + "' refers to mesh " +
@@ -313,7 +560,9 @@ class LightSet {
         if (emitter.area() > 0.0f) add(std::move(emitter));
       }
     }
-    for (const PunctualLight& light : scene.lights) {
+    const bool aimed = portals && portals->any();
+    for (std::size_t index = 0; index < scene.lights.size(); ++index) {
+      const PunctualLight& light = scene.lights[index];
       const std::string what = "LightSet: light '" + light.name + "'";
       if (!std::isfinite(light.intensity) || light.intensity < 0.0f)
         throw std::invalid_argument(what + " has intensity " + std::to_string(light.intensity));
@@ -324,11 +573,22 @@ class LightSet {
           case PunctualKind::spot:
             add(SpotEmitter(light.position, light.direction, radiant, light.inner_cone, light.outer_cone));
             break;
-          case PunctualKind::directional: add(DirectionalEmitter(light.direction, radiant, bounds)); break;
+          case PunctualKind::directional:
+            if (aimed && index < portals->sunlit.size() && !portals->sunlit[index].empty())
+              add(DirectionalEmitter(light.direction, radiant, bounds, portals->sunlit[index], portals->share));
+            else
+              add(DirectionalEmitter(light.direction, radiant, bounds));
+            break;
         }
       } catch (const std::invalid_argument& error) {
         throw std::invalid_argument(what + ": " + error.what());
       }
+    }
+    if (scene.environment && scene.environment->emits()) {
+      if (aimed && !portals->sky_points.empty())
+        add(EnvironmentLight(scene.environment, bounds, portals->sky_points, portals->sky_directions, portals->share));
+      else
+        add(EnvironmentLight(scene.environment, bounds));
     }
   }
 

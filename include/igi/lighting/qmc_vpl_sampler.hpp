@@ -5,7 +5,9 @@
 ///
 /// Every set starts with one exact VPL per delta light (point, spot, directional) at its full
 /// intensity: such a light has a single VPL whatever the sample, so each set gets its direct
-/// light exactly. Then N walks start on the lights. N = max(1, round((M - D) / m)) with
+/// light exactly. The environment's direct light comes as VplSettings::environment_directions
+/// directional VPLs that every set shares too (EnvironmentLight::directional_vpls, a frame's
+/// own directions), outside the budget M; its particles walk like any light's. Then N walks start on the lights. N = max(1, round((M - D) / m)) with
 /// M = vpls_per_set, D the number of delta lights, and m the mean number of VPLs one walk leaves
 /// in this scene (walks from delta lights leave none on the light), measured by a
 /// pilot of 256 walks on an independent scrambling of the sequence that depends on the seed but
@@ -51,6 +53,7 @@
 
 #include "igi/backends/packet.hpp"
 #include "igi/lighting/lights.hpp"
+#include "igi/lighting/portals.hpp"
 #include "igi/lighting/vpl_sampler.hpp"
 #include "igi/scene/scene.hpp"
 #include "igi/shading/brdf_shader.hpp"
@@ -107,25 +110,29 @@ class QmcVplSampler {
     check(frame_settings);
     VplSettings settings = frame_settings;  // with the scene's bounds, which lights at infinity and ray offsets need
     if (settings.scene_bounds.empty()) settings.scene_bounds = scene.bounds();
-    LightSet lights(scene, settings.scene_bounds);
+    const SceneGeometry geometry(scene);
+    LightSet lights = frame_lights(scene, geometry, tracer, shader, settings);
     for (const Emitter& e : user_emitters_) lights.add(e);
     VplGeneration out;
     out.vpls.sets.resize(std::size_t(settings.sets));
     out.origins.resize(std::size_t(settings.sets));
     if (lights.empty()) return out;
 
-    const SceneGeometry geometry(scene);
     // Delta lights (point, spot, directional) have one VPL whatever the sample, so instead of a
     // random share of the walks they light every set exactly: their direct light, hard shadows
     // included, is then the same in all S^2 sets and neither flickers nor shows the pattern.
-    const std::vector<Vpl> exact = exact_vpls(lights);
+    std::vector<Vpl> exact = exact_vpls(lights);
+    const std::size_t delta_lights = exact.size();
+    const std::uint32_t scramble = hash(settings.seed, settings.frame);
+    const std::vector<Vpl> sky = environment_vpls(scene, settings, scramble);
+    exact.insert(exact.end(), sky.begin(), sky.end());
     out.vpls_per_walk = pilot(scene, geometry, tracer, shader, brdf, settings, lights);
-    // The walks fill what the exact VPLs leave of M; at least one walk carries the indirect light,
-    // and at most 16 M walks are spent where particles rarely leave a VPL (mostly escaping).
-    const double budget = std::max(1.0, double(settings.vpls_per_set) - double(exact.size()));
+    // The walks fill what the delta lights' exact VPLs leave of M (the environment's directions
+    // have their own count, VplSettings::environment_directions); at least one walk carries the
+    // indirect light, and at most 16 M walks are spent where particles rarely leave a VPL (mostly escaping).
+    const double budget = std::max(1.0, double(settings.vpls_per_set) - double(delta_lights));
     const double walks = out.vpls_per_walk > 0.0 ? budget / out.vpls_per_walk : 1.0;
     out.walks_per_set = int(std::clamp(std::lround(walks), 1L, 16L * long(settings.vpls_per_set)));
-    const std::uint32_t scramble = hash(settings.seed, settings.frame);
     const Halton halton(scramble);
     const int n = out.walks_per_set;
     for (int s = 0; s < settings.sets; ++s) {
@@ -155,14 +162,33 @@ class QmcVplSampler {
  private:
   friend class ImportanceVplSampler;  // proposes its candidates with these walks
 
+  /// The frame's lights: the scene's, their particles aimed through the portals the frame's view
+  /// finds (find_portals, a VplSettings::portal_share of them; none without a view).
+  template <class Tracer, class Shader>
+  static LightSet frame_lights(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
+                               const VplSettings& settings) {
+    const Portals portals = find_portals(scene, geometry, tracer, shader, settings, settings.portal_share);
+    return LightSet(scene, settings.scene_bounds, &portals);
+  }
+
   /// The one VPL of each delta light of `lights` (point, spot, directional), in light order.
   static std::vector<Vpl> exact_vpls(const LightSet& lights) {
     std::vector<Vpl> exact;
     for (std::size_t i = 0; i < lights.size(); ++i) {
-      const Vpl vpl = lights.emitter(i).sample_emission(0.5f, 0.5f, 0.5f, 0.5f).vpl;
-      if (vpl.kind != VplKind::surface) exact.push_back(vpl);
+      const EmissionSample sample = lights.emitter(i).sample_emission(0.5f, 0.5f, 0.5f, 0.5f);
+      if (sample.leaves_vpl && sample.vpl.kind != VplKind::surface) exact.push_back(sample.vpl);
     }
     return exact;
+  }
+
+  /// The environment's directional VPLs of the frame scrambled by `scramble`, which every set
+  /// shares as it shares the delta lights' (EnvironmentLight::directional_vpls); none without an environment.
+  static std::vector<Vpl> environment_vpls(const Scene& scene, const VplSettings& settings, std::uint32_t scramble) {
+    if (!scene.environment || !scene.environment->emits()) return {};
+    // An arbitrary salt that separates the sky's directions from the walks' numbers.
+    constexpr std::uint32_t sky_salt = 0x736b7973u;
+    return EnvironmentLight(scene.environment, settings.scene_bounds)
+        .directional_vpls(settings.environment_directions, hash(scramble, sky_salt));
   }
 
   /// Throws std::invalid_argument naming the first setting out of range, the message led by `sampler`.
@@ -194,7 +220,7 @@ class QmcVplSampler {
     light_vpl.intensity *= scale;
     walk(scene, geometry, tracer, shader, brdf, settings, emission.origin, emission.direction, emission.flux * scale, u, j,
          bounced, bounced_origins);
-    if (light_vpl.kind != VplKind::surface) return std::nullopt;
+    if (!emission.leaves_vpl || light_vpl.kind != VplKind::surface) return std::nullopt;
     return light_vpl;
   }
 

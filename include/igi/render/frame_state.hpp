@@ -33,6 +33,8 @@ inline VplSettings vpl_settings_for(const RenderSettings& settings, std::uint32_
   vpl_settings.frame = index;
   vpl_settings.seed = settings.seed;
   vpl_settings.max_bounces = settings.max_bounces;
+  vpl_settings.environment_directions = settings.environment_directions;
+  vpl_settings.portal_share = settings.portal_share;
   vpl_settings.scene_bounds = bounds;
   vpl_settings.view = view;
   return vpl_settings;

@@ -6,7 +6,8 @@
 /// Per sample: a camera ray (jittered inside the pixel: a box pixel filter; or through the pixel
 /// centre, as the IGI pipeline without anti-aliasing), then at each hit
 /// - emission, weighted by the power heuristic against light sampling when a non-delta BRDF
-///   sample found it (full weight for camera rays and after mirror / glass bounces);
+///   sample found it (full weight for camera rays and after mirror / glass bounces); a ray that
+///   leaves the scene brings the environment's radiance, weighted the same way;
 /// - next-event estimation: one light chosen in proportion to power (LightSampler), a point on
 ///   area lights with MIS (power heuristic), punctual lights without (delta lights);
 /// - the next direction: one of {diffuse + glossy, mirror / glass reflection, glass refraction},
@@ -260,7 +261,16 @@ class PathTracer {
     const vmask<1> one(true);
     for (int depth = 0;; ++depth) {
       const Vertex v = trace(ray, depth == 0 ? counts.rays.primary : counts.rays.secondary);
-      if (!v.found) break;
+      if (!v.found) {
+        // Left the scene: the environment's light, weighted against light sampling's density
+        // after a non-delta bounce (as emission found by BRDF sampling is).
+        if (lights_.has_environment()) {
+          const glm::vec3 wi = glm::normalize(glm::vec3(ray.dir_x[0], ray.dir_y[0], ray.dir_z[0]));
+          const float weight = delta_bounce ? 1.0f : power_heuristic(previous_pdf, lights_.environment_pdf(wi));
+          radiance += throughput * lights_.environment_radiance(wi) * weight;
+        }
+        break;
+      }
       const SurfaceHit<1>& hit = v.hit;
       const BrdfParameters<1>& parameters = v.parameters;
       const glm::vec3 position = hit.position[0];

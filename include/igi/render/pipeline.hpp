@@ -337,7 +337,7 @@ class Pipeline {
           shade_level(frame, set, k, work, depth + 1, rays);
         }
         const StageTimer timer(work.timing(&StageTimes::gbuffer));
-        write_gbuffer(extended, k, subsample_share, work, gbuffer);
+        write_gbuffer(extended, k, subsample_share, frame.scene->environment.get(), work, gbuffer);
       }
     }
   }
@@ -740,8 +740,10 @@ class Pipeline {
 
   /// Step 6: sub-sample k's results into `g`, which covers `extended` (first-hit normal and depth
   /// from sub-sample 0). Sub-sample 0's camera rays set their pixels' every entry (0 + x is x, so
-  /// the buffer needs no zeroing first), later ones and deeper levels add.
-  static void write_gbuffer(const PixelRect& extended, int k, float share, const Workspace& work, TileGBuffer& g) {
+  /// the buffer needs no zeroing first), later ones and deeper levels add. Rays that left the
+  /// scene bring the `environment`'s radiance (none if null).
+  static void write_gbuffer(const PixelRect& extended, int k, float share, const Environment* environment, const Workspace& work,
+                            TileGBuffer& g) {
     for (std::size_t level = 0; level < work.levels.size(); ++level) {
       for (const StreamPacket& packet : work.levels[level]) {
         const PixelPacket<W>& pixels = work.pixels[std::size_t(packet.pixels)];
@@ -753,6 +755,11 @@ class Pipeline {
           rest += packet.parameters.albedo * packet.light.irradiance * vfloat<W>(inv_pi) +
                   packet.light.glossy;
         rest = keep(packet.throughput * rest, packet.hit);
+        if (const vmask<W> missed = packet.active & !packet.hit; environment && any(missed)) {
+          const vec3<W> direction = packet.rays.direction();
+          for (int i = 0; i < W; ++i)
+            if (missed[i]) rest.set(i, packet.throughput[i] * environment->radiance(glm::normalize(direction[i])));
+        }
         for (int i = 0; i < pixels.count; ++i) {
           if (!packet.active[i]) continue;
           const std::size_t at = g.index(pixels.x[i] - extended.x0, pixels.y[i] - extended.y0);

@@ -52,6 +52,17 @@ struct RenderSettings {
   /// integral does. Off: every ray reads full resolution at its point, as the paper did (and
   /// texture detail finer than a pixel aliases).
   bool filter_textures = true;
+  /// Directional VPLs that carry the environment's direct light (a sky), drawn in proportion to
+  /// its light and shared by every interleaving set, so every pixel sees the same sky: each
+  /// pixel pays this many shadow rays besides its M VPLs. 32 directions give an open white
+  /// floor under the neutral sky (neutral_sky()) an error of about 1% and soft shadows of
+  /// overlapping edges; a sun in the map draws most of them. No effect without an environment.
+  int environment_directions = 32;
+  /// Share of the particles of directional lights and of the environment aimed through the
+  /// openings by which their light reaches the view (find_portals: a window, gaps between
+  /// slats), the rest spread over the whole scene; the mixture's density weighs each particle,
+  /// so the image's expectation does not change, only where the walks go. 0: none aimed (the paper).
+  float portal_share = 0.5f;
   int compensation_rays = 0;      ///< Bias compensation: gather rays per pixel that return the light the clamp removes (0: off).
   /// Temporal reuse (whole frames of one Renderer): each pixel averages up to this many frames
   /// of its history, reprojected with the camera's motion and dropped where normal or depth
@@ -73,6 +84,8 @@ inline constexpr int max_compensation_rays = 64;
 /// Longest temporal history: at 1024 frames the clamp has shrunk to 0.18 of its setting (the
 /// fourth root), and a new frame's weight 1/1024 is still far above float rounding of the average.
 inline constexpr int max_temporal_frames = 1024;
+/// Most environment directions: 1024 shadow rays per pixel for the sky alone is past any use.
+inline constexpr int max_environment_directions = 1024;
 /// Largest anti-aliasing factor: 64 sub-samples per pixel is past any visible gain.
 inline constexpr int max_antialiasing = 64;
 
@@ -99,6 +112,11 @@ inline void validate(const RenderSettings& s) {
   require(s.antialiasing <= s.vpls_per_pixel,
           "aa " + std::to_string(s.antialiasing) + " exceeds vpls " + std::to_string(s.vpls_per_pixel) +
               ": each sub-sample needs at least one VPL of its own");
+  require(s.environment_directions >= 0 && s.environment_directions <= max_environment_directions,
+          "environment directions " + std::to_string(s.environment_directions) + " is outside 0.." +
+              std::to_string(max_environment_directions));
+  require(s.portal_share >= 0.0f && s.portal_share < 1.0f,
+          "portal share " + std::to_string(s.portal_share) + " is outside [0, 1)");
   require(s.shadow_roulette >= 0.0f && s.shadow_roulette <= 1.0f,
           "shadow roulette " + std::to_string(s.shadow_roulette) + " is outside 0..1");
   require(s.compensation_rays >= 0 && s.compensation_rays <= max_compensation_rays,

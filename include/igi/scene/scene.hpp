@@ -2,17 +2,21 @@
 /// \file
 /// The scene model: what glTF 2.0 holds that rendering needs, and no more. Meshes are single
 /// glTF primitives (one material each), placed by instances with 4x4 transforms; lights are
-/// glTF punctual lights plus the emissive triangles of the meshes (found by the lighting layer).
+/// glTF punctual lights plus the emissive triangles of the meshes (found by the lighting layer),
+/// and an environment around it all (a sky: environment.hpp).
 
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
+
+#include "igi/scene/environment.hpp"
 
 namespace igi {
 
@@ -193,6 +197,9 @@ struct Scene {
   std::vector<Texture> textures;             ///< Referenced by materials.
   std::vector<PunctualLight> lights;         ///< KHR_lights_punctual lights.
   std::vector<Camera> cameras;               ///< Cameras by name, in file order.
+  /// Light from infinitely far away (a sky), seen by rays that leave the scene; none if null.
+  /// Shared, immutable: copies of a scene share one map and its sampling distribution.
+  std::shared_ptr<const Environment> environment;
 
   /// Triangles as rendered: every instance counts its mesh's triangles.
   std::size_t triangle_count() const noexcept {
@@ -214,6 +221,14 @@ struct Scene {
         b.extend(glm::vec3(instance.transform * glm::vec4(p, 1.0f)));
     return b;
   }
+  /// True if something in the scene emits light: a punctual light, an instance of an emissive
+  /// material, or an environment that is not black.
+  bool has_lights() const noexcept {
+    if (!lights.empty() || (environment && environment->emits())) return true;
+    for (const Instance& instance : instances)
+      if (instance.mesh >= 0 && std::size_t(instance.mesh) < meshes.size() && material_of(instance.mesh).emissive()) return true;
+    return false;
+  }
   /// The material of `mesh`, or a default white diffuse one.
   const Material& material_of(int mesh) const noexcept {
     // glTF's default material is white metal; a grey diffuse surface (albedo 0.8, a common
@@ -224,5 +239,13 @@ struct Scene {
     return m >= 0 ? materials[std::size_t(m)] : fallback;
   }
 };
+
+/// Lights `scene` with the neutral sky (neutral_sky(scale)) if it has no light of its own, as
+/// glTF viewers do for the many files that carry none; returns true if it did.
+inline bool light_with_default_sky(Scene& scene, float scale = 1.0f) {
+  if (scene.has_lights()) return false;
+  scene.environment = std::make_shared<const Environment>(neutral_sky(scale));
+  return true;
+}
 
 }  // namespace igi

@@ -9,6 +9,8 @@
 /// The camera stands in the corner opposite the window and looks across the room at the window
 /// wall, the sun patch on the floor and the furniture. Units are metres, y is up.
 
+#include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -102,6 +104,41 @@ inline Scene window_room_with_blinds() {
     add_box(blinds, {1.51f, y - 0.002f, 3.9f}, {3.49f, y + 0.002f, 3.99f});  // 4 mm thick, 1 cm inside the opening
   }
   add_object(scene, std::move(blinds), slat_material);
+  return scene;
+}
+
+/// `room` (window_room() or window_room_with_blinds()) under the sky instead of its sky panel:
+/// the panel removed, the neutral sky (neutral_sky()) around it, the sun kept. The rooms as users
+/// light them, where the sky's light reaches the room only through the window.
+inline Scene with_sky(Scene room) {
+  for (std::size_t i = 0; i < room.instances.size(); ++i)
+    if (room.instances[i].name == "sky panel") room.instances.erase(room.instances.begin() + std::ptrdiff_t(i--));
+  room.environment = std::make_shared<const Environment>(neutral_sky());
+  room.name += " under the sky";
+  return room;
+}
+
+/// The window room under the sky (with_sky) with a second window, 1.4 x 1.2 m in the left wall
+/// (x = 0, z 0.8 .. 2.2), so daylight comes from two sides: the sun falls through both (its
+/// light travels towards +x as well as -z), and the sky shows in both. Aiming particles at one
+/// opening would light half the room: this room checks that openings are found, not assumed.
+inline Scene two_window_room() {
+  using namespace window_room_detail;
+  Scene scene = with_sky(window_room());
+  scene.name = "two windows";
+  // The left wall (x -0.2 .. 0) rebuilt around the new opening: below, above, behind and before it.
+  constexpr float depth = 4.0f, height = 2.8f, t = 0.2f;
+  constexpr float bottom = 0.9f, top = 2.1f, back = 0.8f, front = 2.2f;
+  Mesh& walls = scene.meshes[std::size_t(scene.instances.front().mesh)];
+  // The wall is the first box of the shell (window_room's order): its 24 vertices and 12 triangles go.
+  walls.positions.erase(walls.positions.begin(), walls.positions.begin() + 24);
+  walls.normals.erase(walls.normals.begin(), walls.normals.begin() + 24);
+  walls.triangles.erase(walls.triangles.begin(), walls.triangles.begin() + 12);
+  for (glm::uvec3& triangle : walls.triangles) triangle -= glm::uvec3(24);
+  add_box(walls, {-t, 0.0f, -t}, {0.0f, bottom, depth + t});
+  add_box(walls, {-t, top, -t}, {0.0f, height, depth + t});
+  add_box(walls, {-t, bottom, -t}, {0.0f, top, back});
+  add_box(walls, {-t, bottom, front}, {0.0f, top, depth + t});
   return scene;
 }
 

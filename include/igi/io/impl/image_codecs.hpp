@@ -191,6 +191,38 @@ inline std::vector<unsigned char> encode_pfm(const Image& image) {
   return bytes;
 }
 
+/// Radiance RGBE (.hdr) encoding (run-length compressed scanlines, stb).
+inline std::vector<unsigned char> encode_hdr(const std::filesystem::path& path, const Image& image) {
+  std::vector<unsigned char> bytes;
+  auto append = [](void* context, void* data, int size) {
+    auto* out = static_cast<std::vector<unsigned char>*>(context);
+    const auto* begin = static_cast<const unsigned char*>(data);
+    out->insert(out->end(), begin, begin + size);
+  };
+  if (stbi_write_hdr_to_func(append, &bytes, image.width, image.height, 3, &image.pixels.front().x) == 0)
+    image_error(path, "HDR encoding failed");
+  return bytes;
+}
+
+/// Decodes a Radiance RGBE (.hdr) file's bytes to linear floats.
+inline Image decode_hdr(const std::filesystem::path& path, const std::vector<unsigned char>& bytes) {
+  if (bytes.size() > static_cast<std::size_t>(INT32_MAX)) image_error(path, "HDR file is too large");
+  if (!stbi_is_hdr_from_memory(bytes.data(), static_cast<int>(bytes.size())))
+    image_error(path, "not a Radiance HDR image (no #?RADIANCE or #?RGBE header)");
+  int width = 0, height = 0, channels = 0;
+  std::unique_ptr<float, void (*)(void*)> pixels(
+      stbi_loadf_from_memory(bytes.data(), static_cast<int>(bytes.size()), &width, &height, &channels, 3), stbi_image_free);
+  if (!pixels) {
+    const char* reason = stbi_failure_reason();
+    image_error(path, std::string("not a readable Radiance HDR image (") + (reason ? reason : "unknown error") + ")");
+  }
+  check_image_size(path, width, height, static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  Image image(width, height);
+  std::memcpy(image.pixels.data(), pixels.get(), image.pixels.size() * sizeof(glm::vec3));
+  check_finite(path, image, "HDR");
+  return image;
+}
+
 /// Decodes a PNG file's bytes to linear floats.
 inline Image decode_png(const std::filesystem::path& path, const std::vector<unsigned char>& bytes) {
   if (bytes.size() > static_cast<std::size_t>(INT32_MAX)) image_error(path, "PNG file is too large");
@@ -366,6 +398,7 @@ IGI_INLINE void write_image(const std::filesystem::path& path, const Image& imag
     case ImageFormat::png: detail::write_file_atomically(path, detail::encode_png(path, quantize(image))); return;
     case ImageFormat::exr: detail::write_file_atomically(path, detail::encode_exr(path, image)); return;
     case ImageFormat::pfm: detail::write_file_atomically(path, detail::encode_pfm(image)); return;
+    case ImageFormat::hdr: detail::write_file_atomically(path, detail::encode_hdr(path, image)); return;
   }
 }
 
@@ -386,6 +419,7 @@ IGI_INLINE Image read_image(const std::filesystem::path& path) {
     case ImageFormat::png: return detail::decode_png(path, bytes);
     case ImageFormat::exr: return detail::decode_exr(path, bytes);
     case ImageFormat::pfm: return detail::decode_pfm(path, bytes);
+    case ImageFormat::hdr: return detail::decode_hdr(path, bytes);
   }
   detail::image_error(path, "unreachable image format");
 }

@@ -1,0 +1,225 @@
+// Portals: the openings by which the sun's and the sky's light reaches the view, and the aiming
+// of their particles through them. Aimed particles keep each light's estimate unbiased (the
+// light they carry into any region is the unaimed one's), the openings found are the windows
+// of a room, far more of a frame's VPLs then lie in the room, and guided and unguided frames
+// converge to the same image.
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "igi/backends/embree/embree_backend.hpp"
+#include "igi/backends/reference/reference_backend.hpp"
+#include "igi/lighting/portals.hpp"
+#include "igi/lighting/qmc_vpl_sampler.hpp"
+#include "igi/render/frame_state.hpp"
+#include "igi/scene/window_room.hpp"
+#include "igi/shading/brdf_shaders.hpp"
+#include "igi/shading/gltf_material_shader.hpp"
+#include "igi/simd/sampling.hpp"
+
+using namespace igi;
+
+namespace {
+
+constexpr float pi = std::numbers::pi_v<float>;
+
+// The rooms' inside (window_room.hpp): 5 x 4 m, 2.8 m high, from the origin; 1 mm beyond the
+// walls' inner faces, so points on those faces count as inside.
+bool inside_room(const glm::vec3& p) {
+  constexpr float margin = 1e-3f;
+  return p.x > -margin && p.x < 5.0f + margin && p.y > -margin && p.y < 2.8f + margin && p.z > -margin && p.z < 4.0f + margin;
+}
+
+/// The flux a light's particles carry across the disc of radius `radius` about `point`
+/// perpendicular to their direction, per unit area: with unbiased particles, the irradiance
+/// there (for the sun, its own; for the sky, the light from the sky's every direction).
+template <class Light>
+glm::dvec3 flux_through(const Light& light, const glm::vec3& point, float radius, int samples) {
+  const Halton halton(17);
+  glm::dvec3 sum(0.0);
+  for (int i = 0; i < samples; ++i) {
+    const auto k = std::uint64_t(i);
+    const EmissionSample s = light.sample_emission(halton.sample(0, k), halton.sample(1, k), halton.sample(2, k), halton.sample(3, k));
+    const glm::vec3 to_point = point - s.origin;
+    const glm::vec3 closest = s.origin + s.direction * glm::dot(to_point, s.direction);
+    if (glm::length(closest - point) <= radius) sum += glm::dvec3(s.flux);
+  }
+  return sum / (double(samples) * double(pi * radius * radius));
+}
+
+/// Width and height of the frames the sampler tests see: enough view points for the portals.
+constexpr int view_width = 160, view_height = 120;
+
+/// The view of `scene`'s first camera at view_width x view_height, with its default clamp.
+VplView camera_view(const Scene& scene) {
+  RenderSettings render;
+  render.width = view_width;
+  render.height = view_height;
+  return {.projection = PinholeProjection(scene.cameras.front(), render.width, render.height),
+          .clamp_distance = resolve_clamp(render, glm::length(scene.bounds().extent()))};
+}
+
+/// Frame `frame`'s VPL settings of `scene` seen from `view` (borrowed: it must outlive them).
+VplSettings frame_settings(const Scene& scene, const VplView& view, float share, int vpls, std::uint32_t frame) {
+  RenderSettings render;
+  render.width = view_width;
+  render.height = view_height;
+  render.vpls_per_pixel = vpls;
+  render.portal_share = share;
+  render.seed = 5;
+  return vpl_settings_for(render, frame, scene.bounds(), &view);
+}
+
+}  // namespace
+
+TEST_CASE("portals: aimed sun particles carry the sun's irradiance into every region, aimed at or not", "[lighting][portals]") {
+  Bounds bounds;
+  bounds.extend(glm::vec3(-10.0f));
+  bounds.extend(glm::vec3(10.0f));
+  const glm::vec3 direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+  const glm::vec3 irradiance(3.0f, 2.0f, 1.0f);
+  const std::vector<AimPoint> targets = {{{1.0f, 0.0f, 1.0f}, 0.5f}, {{1.3f, 0.0f, 1.1f}, 0.8f}, {{-4.0f, -2.0f, 3.0f}, 2.0f}};
+  const DirectionalEmitter plain(direction, irradiance, bounds);
+  const DirectionalEmitter aimed(direction, irradiance, bounds, targets, 0.7f);
+  // A region 2 m across holds about 1% of the disc's unaimed particles: 10,000 of 2^20, whose
+  // mean flux is within 2% (the aimed ones, lighter and denser, do better).
+  constexpr int samples = 1 << 20;
+  // Across the targets, half over them, and far from every target.
+  for (const glm::vec3& point : {glm::vec3(1.0f, 0.0f, 1.0f), glm::vec3(2.5f, 0.0f, 1.3f), glm::vec3(6.0f, 3.0f, -5.0f)}) {
+    const glm::dvec3 with = flux_through(aimed, point, 2.0f, samples);
+    CHECK(with.x == Approx(irradiance.x).epsilon(0.02));
+    CHECK(with.z == Approx(irradiance.z).epsilon(0.02));
+    CHECK(flux_through(plain, point, 2.0f, samples).x == Approx(irradiance.x).epsilon(0.02));
+  }
+  // The aimed share goes where it is sent: near a target, the particles are that much denser.
+  const auto count_near = [&](const DirectionalEmitter& light) {
+    int near = 0;
+    const Halton halton(3);
+    for (int i = 0; i < 4096; ++i) {
+      const auto k = std::uint64_t(i);
+      const EmissionSample s = light.sample_emission(halton.sample(0, k), halton.sample(1, k), halton.sample(2, k), halton.sample(3, k));
+      const glm::vec3 closest = s.origin + s.direction * glm::dot(targets[0].point - s.origin, s.direction);
+      near += glm::length(closest - targets[0].point) < 0.5f;
+    }
+    return near;
+  };
+  CHECK(count_near(aimed) > 50 * count_near(plain));
+  // The exact VPL of the sun is its whole irradiance, aimed or not.
+  CHECK(aimed.sample_emission(0.5f, 0.5f, 0.5f, 0.5f).vpl.intensity == irradiance);
+}
+
+TEST_CASE("portals: aimed sky particles carry the sky's light into every region, aimed at or not", "[lighting][portals]") {
+  Bounds bounds;
+  bounds.extend(glm::vec3(-5.0f));
+  bounds.extend(glm::vec3(5.0f));
+  auto sky = std::make_shared<const Environment>(neutral_sky());
+  const std::vector<AimPoint> points = {{{0.0f, 0.0f, 0.0f}, 0.4f}, {{0.5f, 0.0f, 0.2f}, 0.6f}};
+  const std::vector<glm::vec3> directions = {glm::normalize(glm::vec3(0.0f, 1.0f, 1.0f)), glm::normalize(glm::vec3(0.2f, 0.5f, 1.0f))};
+  const EnvironmentLight plain(sky, bounds);
+  const EnvironmentLight aimed(sky, bounds, points, directions, 0.6f);
+  // Every particle crosses a sphere about the point as a disc of its direction: the flux through
+  // it over its cross-section is the integral of radiance over the sphere of directions (the
+  // lookups', within 0.5% of the texels' for this smooth sky). A sphere of radius 2 holds 5% of
+  // the unaimed particles: 50,000 of 2^20.
+  const double integral = double(sky->integral().x);
+  constexpr int samples = 1 << 20;
+  for (const glm::vec3& point : {glm::vec3(0.0f), glm::vec3(3.0f, -2.0f, -3.0f)}) {
+    CHECK(flux_through(aimed, point, 2.0f, samples).x == Approx(integral).epsilon(0.02));
+    CHECK(flux_through(plain, point, 2.0f, samples).x == Approx(integral).epsilon(0.02));
+  }
+}
+
+TEST_CASE("portals: a room's openings are found where the sun and the sky reach the view", "[lighting][portals]") {
+  const Scene scene = two_window_room();
+  const EmbreeBackend<1> backend(scene);
+  const GltfMaterialShader shader(scene);
+  const SceneGeometry geometry(scene);
+  const VplView view = camera_view(scene);
+  const VplSettings settings = frame_settings(scene, view, 0.5f, 16, 0);
+  const Portals portals = find_portals(scene, geometry, backend, shader, settings, 0.5f);
+  REQUIRE(portals.any());
+  REQUIRE(portals.sunlit.size() == 1);
+  CHECK(portals.sunlit[0].size() > 10);
+  CHECK(portals.sky_points.size() > 50);
+  // The sun patches on the floor and the sofa, and the ground seen through the windows.
+  int sunlit_inside = 0;
+  for (const AimPoint& aim : portals.sunlit[0]) {
+    sunlit_inside += inside_room(aim.point);
+    CHECK(aim.spread > 0.0f);
+    // The view points' spacing in a 5 x 4 m room, not the scene's 45 m.
+    if (inside_room(aim.point)) CHECK(aim.spread < 1.0f);
+  }
+  CHECK(sunlit_inside > 10);
+  // Every sky ray from inside leaves the room through one of the two windows: at the window
+  // wall's plane it is inside the opening (window_room: x 1.5 .. 3.5, y 0.9 .. 2.1 at z = 4;
+  // two_window_room: z 0.8 .. 2.2, y 0.9 .. 2.1 at x = 0).
+  int front = 0, side = 0;
+  for (std::size_t i = 0; i < portals.sky_points.size(); ++i) {
+    const glm::vec3 p = portals.sky_points[i].point, d = portals.sky_directions[i];
+    if (!inside_room(p)) continue;
+    bool through = false;
+    if (d.z > 0.0f) {
+      const glm::vec3 at = p + d * ((4.0f - p.z) / d.z);
+      if (at.x >= 1.5f && at.x <= 3.5f && at.y >= 0.9f && at.y <= 2.1f) through = true, ++front;
+    }
+    if (d.x < 0.0f) {
+      const glm::vec3 at = p + d * ((0.0f - p.x) / d.x);
+      if (at.z >= 0.8f && at.z <= 2.2f && at.y >= 0.9f && at.y <= 2.1f) through = true, ++side;
+    }
+    CHECK(through);
+  }
+  CHECK(front > 10);
+  CHECK(side > 3);  // the side window shows less sky to this view than the front one
+  // No view, no share, or no light from far away: nothing aimed.
+  VplSettings blind = settings;
+  blind.view = nullptr;
+  CHECK_FALSE(find_portals(scene, geometry, backend, shader, blind, 0.5f).any());
+  CHECK_FALSE(find_portals(scene, geometry, backend, shader, settings, 0.0f).any());
+}
+
+TEST_CASE("portals: aimed walks put many more of a frame's VPLs in the room, on every backend alike", "[lighting][portals]") {
+  for (const Scene& scene : {with_sky(window_room()), two_window_room()}) {
+    const EmbreeBackend<1> backend(scene);
+    const GltfMaterialShader shader(scene);
+    const StandardBrdf brdf;
+    const auto share_in_room = [&](float share) {
+      int inside = 0, all = 0;
+      for (std::uint32_t frame = 0; frame < 4; ++frame) {
+        const VplView view = camera_view(scene);
+        const VplGeneration g = QmcVplSampler{}.generate_with_origins(scene, backend, shader, brdf, frame_settings(scene, view, share, 16, frame));
+        for (std::size_t s = 0; s < g.vpls.sets.size(); ++s)
+          for (std::size_t i = 0; i < g.vpls.sets[s].size(); ++i) {
+            if (g.origins[s][i].walk < 0) continue;  // the shared directional VPLs of the sun and the sky
+            ++all;
+            inside += inside_room(g.vpls.sets[s][i].position);
+          }
+      }
+      return double(inside) / double(all);
+    };
+    const double plain = share_in_room(0.0f), aimed = share_in_room(0.5f);
+    INFO(scene.name << ": share of VPLs in the room " << plain << " unaimed, " << aimed << " aimed");
+    CHECK(aimed > 3.0 * plain);
+    CHECK(aimed > 0.3);
+  }
+  // The same VPLs from the reference backend (the portals' rays and the walks are traced alike).
+  const Scene scene = two_window_room();
+  const GltfMaterialShader shader(scene);
+  const StandardBrdf brdf;
+  const VplView view = camera_view(scene);
+  const VplSettings settings = frame_settings(scene, view, 0.5f, 8, 2);
+  const VplSets embree = QmcVplSampler{}.generate(scene, EmbreeBackend<1>(scene), shader, brdf, settings);
+  const VplSets reference = QmcVplSampler{}.generate(scene, ReferenceBackend<1>(scene), shader, brdf, settings);
+  REQUIRE(embree.sets.size() == reference.sets.size());
+  std::size_t compared = 0;
+  for (std::size_t s = 0; s < embree.sets.size(); ++s) {
+    REQUIRE(embree.sets[s].size() == reference.sets[s].size());
+    for (std::size_t i = 0; i < embree.sets[s].size(); ++i, ++compared) {
+      CHECK(glm::length(embree.sets[s][i].position - reference.sets[s][i].position) < 1e-3f);
+      CHECK(embree.sets[s][i].intensity.x == Approx(reference.sets[s][i].intensity.x).epsilon(1e-3));
+    }
+  }
+  CHECK(compared > 50);
+}
