@@ -8,6 +8,7 @@ packages=(
   catch2 libbenchmark-dev
   libopenmpi-dev openmpi-bin
   libsdl2-dev xvfb xauth
+  doxygen
 )
 missing=()
 for package in "${packages[@]}"; do

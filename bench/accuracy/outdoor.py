@@ -7,7 +7,7 @@ for --aa, whose sub-samples spread over the pixel as the first reference's do). 
 one frame's error depends on its VPLs' luck) and timed apart in TIMED_FRAMES frames (igi-render's
 median, wall clock, 2 threads), so run it on a quiet machine.
 
-What it shows (README, "Outdoors: foliage"): there the error is the camera rays' pixel-centre
+What it shows (docs/accuracy.md, "Outdoors: foliage"): there the error is the camera rays' pixel-centre
 sampling of the leaves, not the VPLs' noise, so anti-aliasing buys more than VPLs at equal time.
 
 usage: /usr/bin/python3 bench/accuracy/outdoor.py BUILD_DIR WORK_DIR OUT_DIR [TREES]

@@ -5,7 +5,7 @@ H = 32 with --vpl-sampler importance), compared with the path-traced references 
 (rendered here if WORK_DIR lacks them); relMSE is the mean over seeds 1-3. The curve of H = 32
 keeps falling (its clamp shrinks as the history grows); H = 8 levels off where its exponential
 average keeps 1/8 of each new frame. Times are not measured here (each frame costs what a frame
-without reuse costs plus the reprojection; see bench/README.md).
+without reuse costs plus the reprojection; see docs/filters.md).
 
 usage: /usr/bin/python3 bench/accuracy/temporal.py BUILD_DIR WORK_DIR OUT_DIR [SCENES_DIR]
 writes OUT_DIR/temporal.csv and OUT_DIR/temporal.png.

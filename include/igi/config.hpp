@@ -10,8 +10,11 @@
 /// header-only. The SIMD and template code stays in the headers either way.
 
 #if defined(IGI_SEPARATE_COMPILATION)
-/// Declares (and defines) an out-of-line function: inline when header-only, external otherwise.
+/// Marks igi's out-of-line functions: empty here, so they have external linkage and
+/// igi/separate_compilation.hpp defines them in one translation unit.
 #define IGI_INLINE
 #else
+/// Marks igi's out-of-line functions: `inline` when header-only, so every translation unit that
+/// calls one may compile its own copy without breaking the one-definition rule.
 #define IGI_INLINE inline
 #endif

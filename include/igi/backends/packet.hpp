@@ -27,9 +27,13 @@ inline constexpr std::size_t packet_alignment = 64;
 template <int W>
 struct alignas(packet_alignment) RayPacket {
   static constexpr int width = W;  ///< Lanes.
+  ///@{
   float org_x[W], org_y[W], org_z[W];  ///< Origins.
+  ///@}
   float tnear[W];                      ///< Start of the valid interval.
+  ///@{
   float dir_x[W], dir_y[W], dir_z[W];  ///< Directions (need not be unit length).
+  ///@}
   float time[W];                       ///< Motion-blur time, unused (0).
   float tfar[W];                       ///< End of the interval; the hit distance after intersect, -inf after an occlusion hit (Embree's convention).
   std::uint32_t mask[W];               ///< Embree ray mask, all ones.
@@ -67,8 +71,12 @@ struct alignas(packet_alignment) RayPacket {
 template <int W>
 struct alignas(packet_alignment) HitPacket {
   static constexpr int width = W;  ///< Lanes.
+  ///@{
   float Ng_x[W], Ng_y[W], Ng_z[W];  ///< Unnormalized geometric normal (backend-defined space; shading recomputes it).
+  ///@}
+  ///@{
   float u[W], v[W];                 ///< Barycentrics of vertices 1 and 2.
+  ///@}
   std::uint32_t primID[W];          ///< Triangle index within the mesh.
   std::uint32_t geomID[W];          ///< Mesh index (Scene::meshes), invalid_id on a miss.
   std::uint32_t instID[W];          ///< Instance index (Scene::instances), invalid_id on a miss.

@@ -93,7 +93,9 @@ inline void check_extent(const glm::mat4& transform, std::span<const glm::vec3> 
 
 /// One triangle in world space with the ids a hit reports.
 struct WorldTriangle {
+  ///@{
   glm::vec3 v0, v1, v2;        ///< World-space vertices.
+  ///@}
   std::uint32_t primitive;     ///< Triangle index within its mesh.
   std::uint32_t mesh;          ///< Mesh index.
   std::uint32_t instance;      ///< Instance index.
@@ -187,7 +189,9 @@ Ray ray_of(const RayPacket<W>& rays, int lane) noexcept {
 /// The result of one ray-triangle test.
 struct TriangleHit {
   float t;        ///< Distance along the ray (in units of its direction's length).
+  ///@{
   float u, v;     ///< Barycentric weights of v1 and v2.
+  ///@}
   glm::vec3 normal;  ///< Unnormalized geometric normal (v1 - v0) x (v2 - v0).
 };
 
@@ -195,8 +199,12 @@ struct TriangleHit {
 /// +z axis, so neighbouring triangles evaluate their shared edge with the same arithmetic.
 struct ShearedRay {
   glm::vec3 origin{0.0f};  ///< Ray origin.
+  ///@{
   int kx = 0, ky = 1, kz = 2;  ///< Axis permutation: kz is the largest direction component.
+  ///@}
+  ///@{
   float sx = 0, sy = 0, sz = 0;  ///< Shear constants.
+  ///@}
   bool usable = false;  ///< False for a zero or non-finite direction, which hits nothing.
 
   /// A ray that hits nothing (what unused lanes carry).

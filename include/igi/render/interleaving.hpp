@@ -13,7 +13,9 @@ namespace igi {
 
 /// A rectangle of pixels, [x0, x1) x [y0, y1).
 struct PixelRect {
+  ///@{
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< Corners.
+  ///@}
   /// Pixels per row.
   int width() const noexcept { return x1 - x0; }
   /// Rows.

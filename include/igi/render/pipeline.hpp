@@ -58,8 +58,12 @@ namespace igi {
 /// triangle), indexed by sub-sample and pixel as Pipeline::camera_hit_index says.
 struct CameraHits {
   std::vector<float> distance;                           ///< The rays' tfar after intersect: hit distance, infinite on a miss.
+  ///@{
   std::vector<float> u, v;                               ///< HitPacket::u, v.
+  ///@}
+  ///@{
   std::vector<std::uint32_t> primitive, mesh, instance;  ///< HitPacket::primID, geomID, instID.
+  ///@}
 
   /// Room for `count` hits.
   void resize(std::size_t count) {

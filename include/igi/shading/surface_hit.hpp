@@ -16,7 +16,9 @@ struct SurfaceHit {
   vec3<W> geometric_normal;  ///< Unit triangle normal, flipped to face the incoming ray.
   vec3<W> shading_normal;    ///< Unit interpolated vertex normal, in the hemisphere of geometric_normal.
   vec3<W> wo;                ///< Unit direction from the hit back towards the ray origin.
+  ///@{
   vfloat<W> u, v;            ///< Texture coordinates (TEXCOORD_0), 0 without them.
+  ///@}
   /// World-space derivative of the position along u (normal maps' tangent), turned along the mesh's
   /// TANGENT where it has one; 0 without texture coordinates or tangents.
   vec3<W> dpdu;

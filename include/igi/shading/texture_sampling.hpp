@@ -40,7 +40,9 @@ inline const std::array<float, 256>& srgb_to_linear_table() noexcept {
 /// W texels' linear RGBA, one packet per channel.
 template <int W>
 struct TexelPacket {
+  ///@{
   vfloat<W> r, g, b, a;  ///< Channels; colour decoded from sRGB where the texture is sRGB, alpha always linear.
+  ///@}
 
   /// The colour channels.
   [[gnu::always_inline]] vec3<W> rgb() const noexcept { return {r, g, b}; }

@@ -268,10 +268,13 @@ class lanes {
   [[gnu::always_inline]] friend lanes operator-(const lanes& a) noexcept {
     return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return -x; });
   }
+  /// Lane-wise compound assignment, the binary operator above applied to every lane.
+  ///@{
   [[gnu::always_inline]] lanes& operator+=(const lanes& b) noexcept { return *this = *this + b; }
   [[gnu::always_inline]] lanes& operator-=(const lanes& b) noexcept { return *this = *this - b; }
   [[gnu::always_inline]] lanes& operator*=(const lanes& b) noexcept { return *this = *this * b; }
   [[gnu::always_inline]] lanes& operator/=(const lanes& b) noexcept { return *this = *this / b; }
+  ///@}
 
   [[gnu::always_inline]] friend lanes operator&(const lanes& a, const lanes& b) noexcept requires std::is_integral_v<T> {
     return lanewise(a, b, [](const auto& x, const auto& y) __attribute__((always_inline)) { return x & y; });

@@ -12,7 +12,9 @@ namespace igi {
 /// W three-component vectors, one per lane, stored as x, y and z packets.
 template <int W>
 struct vec3 {
+  ///@{
   vfloat<W> x, y, z;  ///< Components.
+  ///@}
 
   /// All lanes (0, 0, 0).
   constexpr vec3() noexcept = default;
@@ -44,10 +46,13 @@ struct vec3 {
   [[gnu::always_inline]] friend vec3 operator*(const vfloat<W>& s, const vec3& a) noexcept { return a * s; }
   [[gnu::always_inline]] friend vec3 operator/(const vec3& a, const vfloat<W>& s) noexcept { return a * (vfloat<W>(1.0f) / s); }
   [[gnu::always_inline]] friend vec3 operator-(const vec3& a) noexcept { return {-a.x, -a.y, -a.z}; }
+  /// Component-wise compound assignment (by a vector, or every component by a scalar packet).
+  ///@{
   [[gnu::always_inline]] vec3& operator+=(const vec3& b) noexcept { return *this = *this + b; }
   [[gnu::always_inline]] vec3& operator-=(const vec3& b) noexcept { return *this = *this - b; }
   [[gnu::always_inline]] vec3& operator*=(const vec3& b) noexcept { return *this = *this * b; }
   [[gnu::always_inline]] vec3& operator*=(const vfloat<W>& s) noexcept { return *this = *this * s; }
+  ///@}
 };
 
 /// Lane-wise dot product.

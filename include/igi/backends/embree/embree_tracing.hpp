@@ -290,7 +290,7 @@ vmask<N> embree_occluded(RTCScene top, EmbreePacketWidths widths, RayPacket<N>& 
   // Never Embree's coherent 16-wide occlusion kernel where it can loop forever (see
   // detail::embree_coherent_occlusion16_may_loop): embree_trace_packet sends coherent packets as
   // two coherent 8-wide halves. Of the ways around it (bench/backends/occlusion16_bench.cpp,
-  // bench/README.md), the halves were fastest on Sponza (1.17x the incoherent flag) and a
+  // docs/performance.md), the halves were fastest on Sponza (1.17x the incoherent flag) and a
   // million-triangle terrain (1.02x), the incoherent flag on the 36-triangle Cornell box (1.38x
   // the halves); on whole frames the halves make Sponza_lit 2-5% faster and Cornell 5% slower.
   RTCIntersectContext ctx = embree_context<N>(coherence);
