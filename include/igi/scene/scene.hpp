@@ -14,6 +14,8 @@
 
 #include <glm/glm.hpp>
 
+#include "igi/scene/scene_animations.hpp"
+
 namespace igi {
 
 /// A decoded 8-bit RGBA image, decoded once at load time.
@@ -191,6 +193,7 @@ struct Scene {
   std::vector<Instance> instances;           ///< Placements of meshes.
   std::vector<Material> materials;           ///< Referenced by meshes.
   std::vector<Texture> textures;             ///< Referenced by materials.
+  SceneAnimations animations;                ///< The file's nodes, animations, skins and deformed meshes (empty for built-in scenes).
   std::vector<PunctualLight> lights;         ///< KHR_lights_punctual lights.
   std::vector<Camera> cameras;               ///< Cameras by name, in file order.
 
