@@ -1,12 +1,14 @@
 // What a skinned mesh adds to a frame: a 50k-triangle skinned tube (a bending arm of 8 bones,
-// every vertex weighted to its two nearest bones) in a 262k-triangle scene (the rest a static
-// ground grid), animated, applied to the Embree backend (the mesh's BVH refitted), measured per
-// frame without the rendering itself.
+// every vertex weighted to its two nearest bones) in a 262k-triangle scene (the rest static: a
+// ground grid, or the shared Sponza when IGI_SCENES_DIR has it), animated, applied to the Embree
+// backend (the mesh's BVH refitted), measured per frame without the rendering itself.
 //
-//   skinned_frame/<part>   manual time per frame of: sample (channels and node transforms),
-//                          deform (skinning the vertices), apply (scene and backend take the
-//                          vertices, bounds updated), commit (the BVH refit and the instance
-//                          level), total (all four: what the animation adds to a frame)
+//   skinned_frame/<grid|sponza>
+//                          manual time per frame: what the animation adds to a frame; counters
+//                          (ms per frame) split it into sample_ms (channels and node transforms),
+//                          deform_ms (skinning the vertices), apply_ms (scene and backend take the
+//                          vertices, bounds updated) and commit_ms (the BVH refit and the
+//                          instance level)
 //
 //   animation_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 //
@@ -16,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -25,6 +28,7 @@
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/scene/animation_sampling.hpp"
+#include "igi/scene/gltf.hpp"
 #include "igi/scene/scene_bounds.hpp"
 
 namespace {
@@ -58,13 +62,11 @@ Mesh ground_grid(int quads) {
   return mesh;
 }
 
-/// The scene: the ground, and a vertical tube of height bone_count skinned to a chain of bones
+/// The scene: `scene` (static), and a vertical tube of height bone_count skinned to a chain of bones
 /// (one per unit of height) that one animation "bend" turns about +Z, each bone a little more.
-Scene skinned_scene() {
-  Scene scene;
-  scene.name = "skinned";
-  scene.meshes.push_back(ground_grid(ground_quads));
-  scene.instances.push_back({.name = "ground", .mesh = 0});
+Scene skinned_scene(Scene scene) {
+  const int tube_mesh = int(scene.meshes.size());
+  const int tube_instance = int(scene.instances.size());
   Mesh tube;
   tube.name = "tube";
   DeformableMesh deformable;
@@ -95,9 +97,10 @@ Scene skinned_scene() {
   deformable.rest_positions = tube.positions;
   deformable.rest_normals = tube.normals;
   scene.meshes.push_back(tube);
-  scene.instances.push_back({.name = "tube", .mesh = 1});
+  scene.instances.push_back({.name = "tube", .mesh = tube_mesh});
 
   SceneAnimations& data = scene.animations;
+  data = SceneAnimations{};  // the static part's own nodes, if any, play no part
   Skin skin;
   skin.name = "arm";
   NodeAnimation bend;
@@ -128,12 +131,13 @@ Scene skinned_scene() {
   data.node_order.push_back(bone_count);
   data.skins.push_back(skin);
   data.animations.push_back(bend);
-  deformable.mesh = 1;
-  deformable.instance = 1;
+  deformable.mesh = tube_mesh;
+  deformable.instance = tube_instance;
   deformable.node = bone_count;
   deformable.skin = 0;
   data.deformables.push_back(deformable);
-  data.instance_nodes = {-1, bone_count};
+  data.instance_nodes.assign(scene.instances.size(), -1);
+  data.instance_nodes.back() = bone_count;
   return scene;
 }
 
@@ -142,13 +146,26 @@ double since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// Which part of a frame's animation cost a benchmark reports.
-enum class Part { sample, deform, apply, commit, total };
-
-/// One frame's animation through the Embree backend, its `part` reported as manual time; every
-/// part is timed each iteration, and all four are reported as counters (ms).
-void skinned_frame(benchmark::State& state, Part part) {
-  Scene scene = skinned_scene();
+/// One frame's animation through the Embree backend, reported as manual time (the parts' sum),
+/// each part as a counter (ms per frame). One benchmark times all parts: timing a part alone as
+/// manual time would run as many whole frames as a part of a few microseconds needs to fill the
+/// minimum time.
+void skinned_frame(benchmark::State& state, const char* around) {
+  Scene around_scene;
+  if (std::string(around) == "sponza") {
+    const std::filesystem::path file = std::filesystem::path(IGI_SCENES_DIR) / "sponza" / "Sponza.gltf";
+    if (!std::filesystem::exists(file)) {
+      state.SkipWithError(("shared scene missing: " + file.string()).c_str());
+      return;
+    }
+    std::vector<std::string> warnings;  // Sponza's known warnings (dropped maps) are no news here
+    around_scene = load_gltf(file, &warnings);
+  } else {
+    around_scene.name = "grid";
+    around_scene.meshes.push_back(ground_grid(ground_quads));
+    around_scene.instances.push_back({.name = "ground", .mesh = 0});
+  }
+  Scene scene = skinned_scene(std::move(around_scene));
   EmbreeBackend<8> backend(scene);
   SceneBounds bounds(scene);
   const AnimationPlayer player(scene, 0, true);
@@ -182,7 +199,7 @@ void skinned_frame(benchmark::State& state, Part part) {
     step(parts);
     const double total = parts[0] + parts[1] + parts[2] + parts[3];
     for (int i = 0; i < 4; ++i) sums[i] += parts[i];
-    state.SetIterationTime((part == Part::total ? total : parts[int(part)]) * 1e-3);
+    state.SetIterationTime(total * 1e-3);
   }
   const double n = double(state.iterations());
   state.counters["sample_ms"] = sums[0] / n;
@@ -190,14 +207,11 @@ void skinned_frame(benchmark::State& state, Part part) {
   state.counters["apply_ms"] = sums[2] / n;
   state.counters["commit_ms"] = sums[3] / n;
   state.counters["triangles"] = double(scene.triangle_count());
-  state.counters["skinned_triangles"] = double(scene.meshes[1].triangles.size());
+  state.counters["skinned_triangles"] = double(scene.meshes.back().triangles.size());
 }
 
-BENCHMARK_CAPTURE(skinned_frame, total, Part::total)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(skinned_frame, sample, Part::sample)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(skinned_frame, deform, Part::deform)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(skinned_frame, apply, Part::apply)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(skinned_frame, commit, Part::commit)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(skinned_frame, grid, "grid")->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(skinned_frame, sponza, "sponza")->UseManualTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -143,23 +143,23 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
       .set("vpls_per_frame", frame.statistics.vpls)
       .set("vpl_ms", frame.statistics.vpl_milliseconds)
       .set("temporal_ms", frame.statistics.temporal_milliseconds);
-  if (plays_file_animation(options)) {
+  if (options.play) {
     // Medians over the frames, as the frame time: sampling channels and nodes, skinning and
     // morphing vertices, and committing them to the backend (refits, instance moves).
     extra.set("animation_sampling_ms", median(sampling))
         .set("skinning_ms", median(deforming))
         .set("bvh_update_ms", median(bvh_update))
         .set("animation", options.play ? player->animation().name : options.animation)
-        .set("fps", options.fps);
-    if (options.stats != "json")
-      std::printf("animation per frame (median): sampling %.3f ms, skinning %.3f ms, BVH update %.3f ms\n",
-                  median(sampling), median(deforming), median(bvh_update));
+        .set("play_fps", options.fps);
   }
   if (options.profile)
     extra.set("stage_cpu_ms", stage_milliseconds(frame.statistics.stages));
   else
     extra.set("stage_cpu_ms", nullptr);
   report(scene, options, B::name(), B::width, median(milliseconds), frame.statistics.rays, written, extra);
+  if (options.play && options.stats != "json")
+    std::printf("animation per frame (median): sampling %.3f ms, skinning %.3f ms, BVH update %.3f ms\n", median(sampling),
+                median(deforming), median(bvh_update));
   return 0;
 }
 

@@ -148,6 +148,12 @@ inline std::filesystem::path write_deforming_scene(const std::filesystem::path& 
   const int weights = add_floats(gltf, {0.0f, 1.0f}, "SCALAR", 1);
   const int bone1 = gltf.doc["nodes"][std::size_t(skin[0])]["children"][0];
   add_animation(gltf, "all", {{bone1, "rotation", "LINEAR", times, rotations}, {morphed, "weights", "LINEAR", times, weights}});
+  // Coloured diffuse materials: a terracotta floor, a green skin, a blue quad (images with colour).
+  gltf.doc["materials"] = {
+      {{"name", "floor"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.35, 0.2, 1.0}}, {"metallicFactor", 0.0}}}},
+      {{"name", "skin"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.7, 0.3, 1.0}}, {"metallicFactor", 0.0}}}},
+      {{"name", "quad"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.3, 0.8, 1.0}}, {"metallicFactor", 0.0}}}}};
+  for (int m = 0; m < 3; ++m) gltf.doc["meshes"][std::size_t(m)]["primitives"][0]["material"] = m;
   gltf.set_roots({floor, skin[0], skin[1], morphed, light, camera});
   return gltf.write_gltf(dir, name);
 }
