@@ -16,6 +16,7 @@
 
 #include "animated_gltf.hpp"
 #include "gltf_builder.hpp"
+#include "gltf_checks.hpp"
 #include "igi/scene/animation_sampling.hpp"
 #include "igi/scene/gltf.hpp"
 
@@ -25,24 +26,9 @@ using Catch::Contains;
 using igi::testing::add_animation;
 using igi::testing::add_floats;
 using igi::testing::GltfBuilder;
+using igi::testing::load_clean;
+using igi::testing::near;
 using igi::testing::scratch_dir;
-
-/// Float rounding of a few chained float operations on values of order 1.
-constexpr float tolerance = 1e-5f;
-
-/// True if `a` and `b` agree to `within` in every component.
-bool near(const glm::vec3& a, const glm::vec3& b, float within = tolerance) {
-  return glm::all(glm::lessThanEqual(glm::abs(a - b), glm::vec3(within)));
-}
-
-/// Loads `file`, requiring no warnings.
-igi::Scene load_clean(const std::filesystem::path& file) {
-  std::vector<std::string> warnings;
-  igi::Scene scene = igi::load_gltf(file, &warnings);
-  for (const std::string& warning : warnings) UNSCOPED_INFO(warning);
-  CHECK(warnings.empty());
-  return scene;
-}
 
 /// The message of the SceneError loading `file` throws ("" if it loads).
 std::string load_error(const std::filesystem::path& file) {

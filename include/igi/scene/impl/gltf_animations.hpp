@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <initializer_list>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -19,12 +20,21 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <tiny_gltf.h>
 
+#include "igi/scene/animation_sampling.hpp"
 #include "igi/scene/impl/gltf_accessors.hpp"
 #include "igi/scene/impl/gltf_diagnostics.hpp"
 #include "igi/scene/scene.hpp"
 #include "igi/scene/scene_animations.hpp"
 
 namespace igi::gltf_detail {
+
+/// The one of `values` whose glTF spelling (`name_of`) is `text`, or none.
+template <class Enum, class Name>
+std::optional<Enum> named(const std::string& text, std::initializer_list<Enum> values, Name name_of) {
+  for (const Enum value : values)
+    if (text == name_of(value)) return value;
+  return std::nullopt;
+}
 
 /// A primitive placed by a node whose skin or morph targets deform it.
 struct DeformedPrimitive {
@@ -121,18 +131,14 @@ class AnimationReader {
           continue;
         }
         AnimationChannel read;
-        if (channel.target_path == "translation") {
-          read.property = AnimatedProperty::translation;
-        } else if (channel.target_path == "rotation") {
-          read.property = AnimatedProperty::rotation;
-        } else if (channel.target_path == "scale") {
-          read.property = AnimatedProperty::scale;
-        } else if (channel.target_path == "weights") {
-          read.property = AnimatedProperty::weights;
-        } else {
+        const std::optional<AnimatedProperty> property =
+            named(channel.target_path, {AnimatedProperty::translation, AnimatedProperty::rotation, AnimatedProperty::scale,
+                                        AnimatedProperty::weights}, property_name);
+        if (!property) {
           ignored.insert("channels with target path '" + channel.target_path + "'");
           continue;
         }
+        read.property = *property;
         if (channel.target_node < 0 || std::size_t(channel.target_node) >= model_.nodes.size())
           fail(channel_label + ": target node " + std::to_string(channel.target_node) + " does not exist (the file has " +
                std::to_string(model_.nodes.size()) + " nodes)");
@@ -144,15 +150,14 @@ class AnimationReader {
           fail(channel_label + ": sampler " + std::to_string(channel.sampler) + " does not exist (the animation has " +
                std::to_string(source.samplers.size()) + " samplers)");
         const tinygltf::AnimationSampler& sampler = source.samplers[std::size_t(channel.sampler)];
-        if (sampler.interpolation == "LINEAR" || sampler.interpolation.empty()) {
-          read.interpolation = Interpolation::linear;
-        } else if (sampler.interpolation == "STEP") {
-          read.interpolation = Interpolation::step;
-        } else if (sampler.interpolation == "CUBICSPLINE") {
-          read.interpolation = Interpolation::cubic_spline;
-        } else {
+        const std::optional<Interpolation> interpolation =
+            sampler.interpolation.empty()  // glTF's default
+                ? Interpolation::linear
+                : named(sampler.interpolation, {Interpolation::linear, Interpolation::step, Interpolation::cubic_spline},
+                        interpolation_name);
+        if (!interpolation)
           fail(channel_label + ": interpolation '" + sampler.interpolation + "' is not LINEAR, STEP or CUBICSPLINE");
-        }
+        read.interpolation = *interpolation;
         read.times = accessors_.read_floats(sampler.input, 1, {TINYGLTF_COMPONENT_TYPE_FLOAT}, channel_label + " input");
         read.components = components_of(read, channel_label);
         // Rotations and weights may be normalized integers (glTF 2.0 section 3.11); the rest are floats.
