@@ -94,13 +94,15 @@ inline std::vector<int> add_two_bone_skin(GltfBuilder& gltf) {
   return {bone0, skinned};
 }
 
-/// Adds a quad (x, y in [0, 1] at z = 0, normal +Z) with one morph target that lifts vertex 2 by
-/// (0, 0, 1) and tilts its normal by (0, 1, 0), given as a sparse accessor without a bufferView;
+/// Adds a quad (x, y in [0, 1] at z = 0, normal +Z, tangent +X) with one morph target that lifts
+/// vertex 2 by (0, 0, 1), tilts its normal by (0, 1, 0) and its tangent by (0, 0, 1), each given
+/// as a sparse accessor without a bufferView;
 /// the mesh's default weight is 0.25, and animation "morph" drives it from 0 at t = 0 to 1 at t = 1.
 /// Returns the node.
 inline int add_morphed_quad(GltfBuilder& gltf) {
   const int position = gltf.add_positions({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}});
   const int normal = gltf.add_positions({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
+  const int tangent = add_floats(gltf, {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1}, "VEC4", 4);
   const int indices = gltf.add_indices({0, 1, 2, 0, 2, 3});
   const auto sparse_vec3 = [&](std::uint32_t vertex, const std::vector<float>& value) {
     const std::vector<std::uint32_t> index{vertex};
@@ -117,9 +119,11 @@ inline int add_morphed_quad(GltfBuilder& gltf) {
   };
   const int lift = sparse_vec3(2, {0, 0, 1});
   const int tilt = sparse_vec3(2, {0, 1, 0});
-  const int mesh = gltf.add_mesh("morphed", nlohmann::json::array({{{"attributes", {{"POSITION", position}, {"NORMAL", normal}}},
-                                                                     {"indices", indices},
-                                                                     {"targets", {{{"POSITION", lift}, {"NORMAL", tilt}}}}}}));
+  const int twist = sparse_vec3(2, {0, 0, 1});
+  const int mesh = gltf.add_mesh(
+      "morphed", nlohmann::json::array({{{"attributes", {{"POSITION", position}, {"NORMAL", normal}, {"TANGENT", tangent}}},
+                                         {"indices", indices},
+                                         {"targets", {{{"POSITION", lift}, {"NORMAL", tilt}, {"TANGENT", twist}}}}}}));
   gltf.doc["meshes"][std::size_t(mesh)]["weights"] = {0.25};
   const int node = gltf.add_node({{"name", "morphed"}, {"mesh", mesh}});
   const int times = add_floats(gltf, {0.0f, 1.0f}, "SCALAR", 1);
