@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,13 +39,15 @@ struct Options : RenderOptions {
   bool profile = false;          ///< Time each pipeline stage (stats: stage_cpu_ms).
   bool play = false;             ///< Render --frames frames of the file's animation, frame i at i / fps seconds.
   double fps = 24.0;             ///< Frames per second of --play.
-  double time = -1.0;            ///< With --time: the one time (seconds) of the file's animation to render; negative: none.
+  /// With --time: the one time (seconds) of the file's animation to render (before its first key
+  /// it holds its first pose); NaN without --time.
+  double time = std::numeric_limits<double>::quiet_NaN();
   std::string animation = "0";   ///< The file's animation to play: its name or index.
   bool loop = false;             ///< Time wraps around the animation's duration instead of holding its last pose.
 };
 
 /// Whether the options play the file's own animation (--play or --time).
-bool plays_file_animation(const Options& options) { return options.play || options.time >= 0.0; }
+bool plays_file_animation(const Options& options) { return options.play || !std::isnan(options.time); }
 
 /// Index into scene.cameras of the camera the options choose (-1: the default camera, no node).
 int chosen_camera_index(const igi::Scene& scene, const Options& options) {
@@ -256,7 +259,7 @@ int main(int argc, char** argv) {
     }
     if (plays_file_animation(options)) {
       if (options.animate != "none") throw UsageError("--play and --time play the file's animation: they exclude --animate");
-      if (options.play && options.time >= 0.0) throw UsageError("--play renders a sequence and --time one frame: choose one");
+      if (options.play && !std::isnan(options.time)) throw UsageError("--play renders a sequence and --time one frame: choose one");
       if (options.play && options.integrator != "igi")
         throw UsageError("--play renders with --integrator igi only (the path tracer accumulates one still image)");
       if (!(options.fps > 0.0) || !std::isfinite(options.fps)) throw UsageError("--fps must be a positive number");
@@ -269,7 +272,7 @@ int main(int argc, char** argv) {
   try {
     igi::Scene scene = load_scene(options);
     igi::Camera camera = choose_camera(scene, options);
-    if (options.time >= 0.0) {
+    if (!std::isnan(options.time)) {
       // One frame at one time: the scene is posed before any backend is built, so every integrator renders it.
       try {
         const igi::AnimationPlayer player(scene, igi::find_animation(scene, options.animation), options.loop);

@@ -21,7 +21,6 @@
 
 #include "igi/scene/error.hpp"
 #include "igi/scene/scene.hpp"
-#include "igi/scene/scene_animations.hpp"
 #include "igi/scene/scene_changes.hpp"
 
 namespace igi {
@@ -253,7 +252,7 @@ struct AnimationTimes {
 };
 
 /// Samples one of a scene's animations at any time into SceneChanges. It reads the scene's
-/// animation data (borrowed: the scene must outlive it), which applying the changes leaves alone,
+/// animation data (Scene::animations; borrowed: the scene must outlive it), which applying the changes leaves alone,
 /// so it may sample the very scene the renderer changes. What the animation can move (the nodes
 /// its channels drive and everything below them) is found once, at construction, and only that
 /// appears in the changes: the rest of the scene stays as loaded (and flattened in the backends).
@@ -379,11 +378,12 @@ class AnimationPlayer {
     pose.nodes.resize(data.nodes.size());
     for (std::size_t n = 0; n < data.nodes.size(); ++n) {
       const SceneNode& node = data.nodes[n];
-      pose.nodes[n] = {node.translation, node.rotation, node.scale, node.weights};
+      pose.nodes[n] = {node.translation, glm::quat(node.rotation.w, node.rotation.x, node.rotation.y, node.rotation.z), node.scale, node.weights};
     }
     compose(data, pose);
     return pose;
   }
+  /// The nodes of this player's scene at rest.
   Pose rest_pose() const { return rest_pose(scene_->animations); }
 
   /// World transforms of `pose`'s nodes, parents before children.
@@ -403,6 +403,7 @@ class AnimationPlayer {
       pose.world[std::size_t(index)] = node.parent >= 0 ? pose.world[std::size_t(node.parent)] * local : local;
     }
   }
+  /// World transforms of `pose`'s nodes in this player's scene.
   void compose(Pose& pose) const { compose(scene_->animations, pose); }
 
   /// `world` with unit axes (a camera's view must not stretch).
@@ -422,11 +423,12 @@ class AnimationPlayer {
     if (length > 0.0f) light.direction = direction / length;
   }
 
-  /// The vertices of `deformable` in `pose`: morphed by its node's weights, then skinned by its
-  /// skin's joints (into world space), else left in mesh space.
+  /// The vertices of `deformable` in `pose` (see the static deform).
   MeshVertices deform(const DeformableMesh& deformable, const Pose& pose) const {
     return deform(scene_->animations, deformable, pose);
   }
+  /// The vertices of `deformable` of `data` in `pose`: morphed by its node's weights, then skinned
+  /// by its skin's joints (into world space), else left in mesh space.
   static MeshVertices deform(const SceneAnimations& data, const DeformableMesh& deformable, const Pose& pose) {
     const std::size_t vertices = deformable.rest_positions.size();
     MeshVertices out;

@@ -24,7 +24,6 @@
 #include "igi/scene/impl/gltf_accessors.hpp"
 #include "igi/scene/impl/gltf_diagnostics.hpp"
 #include "igi/scene/scene.hpp"
-#include "igi/scene/scene_animations.hpp"
 
 namespace igi::gltf_detail {
 
@@ -71,7 +70,10 @@ class AnimationReader {
         const glm::quat rotation(float(source.rotation[3]), float(source.rotation[0]), float(source.rotation[1]),
                                  float(source.rotation[2]));
         const float length = glm::length(rotation);
-        if (length > 0.0f && std::isfinite(length)) node.rotation = rotation / length;
+        if (length > 0.0f && std::isfinite(length)) {
+          const glm::quat unit = rotation / length;
+          node.rotation = glm::vec4(unit.x, unit.y, unit.z, unit.w);
+        }
       }
       if (source.scale.size() == 3) node.scale = glm::vec3(float(source.scale[0]), float(source.scale[1]), float(source.scale[2]));
       node.weights.assign(source.weights.begin(), source.weights.end());
@@ -247,7 +249,9 @@ class AnimationReader {
   const AccessorReader& accessors_;     ///< Reads its accessors.
   const Diagnostics& diagnostics_;      ///< Where failures and warnings go.
 
+  /// Throws SceneError naming the file and `problem`.
   [[noreturn]] void fail(const std::string& problem) const { diagnostics_.fail(problem); }
+  /// Reports a recoverable problem of the file.
   void warn(const std::string& message) const { diagnostics_.warn(message); }
 
   /// Floats per output element of `channel`: 3, 4, or the morph target count of its node's mesh.

@@ -9,7 +9,7 @@
 #include "igi/backends/saarcor/saarcor_backend.hpp"
 #include "igi/scene/animation_sampling.hpp"
 #include "igi/scene/gltf.hpp"
-#include "render_support.hpp"
+#include "render/render_support.hpp"
 #include "scene/animated_gltf.hpp"
 
 namespace {
