@@ -112,17 +112,21 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
   if (options.play) player.emplace(scene, igi::find_animation(scene, options.animation), options.loop);
   const int camera_index = chosen_camera_index(scene, options);
   const FrameNames names(options.output, options.frames);
-  std::vector<double> milliseconds, sampling, deforming, bvh_update;
+  std::vector<double> milliseconds, sampling, deforming, applying, bvh_update;
   igi::Frame frame;
   ProgressBar progress(std::uint64_t(options.frames), "frames");
   for (int f = 0; f < options.frames; ++f) {
     const auto index = std::uint32_t(f);
     igi::Camera view = camera;
     igi::AnimationTimes times;
-    if (player)
-      view = renderer.apply((*player)(double(f) / options.fps, camera, camera_index, &times));
-    else if (sequence)
+    if (player) {
+      const igi::SceneChanges changes = (*player)(double(f) / options.fps, camera, camera_index, &times);
+      const auto apply_start = std::chrono::steady_clock::now();
+      view = renderer.apply(changes);
+      applying.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - apply_start).count());
+    } else if (sequence) {
       view = renderer.apply(animator(index));
+    }
     frame = renderer.render(view, index);
     if (stop_requested()) return stopped("igi-render");
     milliseconds.push_back(frame.statistics.milliseconds);
@@ -148,9 +152,11 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
       .set("temporal_ms", frame.statistics.temporal_milliseconds);
   if (options.play) {
     // Medians over the frames, as the frame time: sampling channels and nodes, skinning and
-    // morphing vertices, and committing them to the backend (refits, instance moves).
+    // morphing vertices (these two before the frame), handing them to the scene and backend (also
+    // before it), and committing them to the backend (refits, instance moves: part of the frame time).
     extra.set("animation_sampling_ms", median(sampling))
         .set("skinning_ms", median(deforming))
+        .set("scene_update_ms", median(applying))
         .set("bvh_update_ms", median(bvh_update))
         .set("animation", options.play ? player->animation().name : options.animation)
         .set("play_fps", options.fps);
@@ -161,8 +167,9 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
     extra.set("stage_cpu_ms", nullptr);
   report(scene, options, B::name(), B::width, median(milliseconds), frame.statistics.rays, written, extra);
   if (options.play && options.stats != "json")
-    std::printf("animation per frame (median): sampling %.3f ms, skinning %.3f ms, BVH update %.3f ms\n", median(sampling),
-                median(deforming), median(bvh_update));
+    std::printf("animation per frame (median): sampling %.3f ms, skinning %.3f ms, scene update %.3f ms, BVH update %.3f ms "
+                "(the last within the frame time)\n",
+                median(sampling), median(deforming), median(applying), median(bvh_update));
   return 0;
 }
 
