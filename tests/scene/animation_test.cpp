@@ -243,6 +243,11 @@ TEST_CASE("an animated camera and light follow their nodes", "[animation]") {
   const igi::Scene scene = load_clean(gltf.write_gltf(scratch_dir("camera_light"), "camera_light"));
   REQUIRE(scene.cameras.size() == 1);
   REQUIRE(scene.lights.size() == 1);
+  // Every instance, camera and light knows the node that places it.
+  CHECK(scene.animations.instance_nodes == std::vector<int>{quad});
+  CHECK(scene.animations.camera_nodes == std::vector<int>{camera});
+  CHECK(scene.animations.light_nodes == std::vector<int>{lamp});
+  CHECK(scene.animations.nodes[std::size_t(camera)].parent == dolly);
   const igi::AnimationPlayer player(scene, 0);
   const igi::SceneChanges changes = player(1.0, scene.cameras[0], 0);
   CHECK(near(changes.camera.position(), {2, 0, 2}));  // halfway along the dolly's slide
