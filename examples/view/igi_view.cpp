@@ -1,8 +1,9 @@
 // igi-view: an interactive window on the IGI pipeline. Renders a glTF scene or the built-in
 // Cornell box continuously; the camera, the light and the settings change at a key press, and a
 // still view converges by progressive accumulation of new VPL sets. `--frames N` makes it a
-// fixed-length (testable) run, `--animate` moves the light or camera, `--screenshot` saves
-// what the window shows.
+// fixed-length (testable) run, `--animate` moves the light or camera, `--play` plays the file's
+// own animation (K plays and pauses it, [ and ] step through it), `--screenshot` saves what the
+// window shows.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -28,6 +29,7 @@
 #include "igi/render/animation.hpp"
 #include "igi/render/filter_choice.hpp"
 #include "igi/render/renderer.hpp"
+#include "igi/scene/animation_sampling.hpp"
 #include "igi/scene/camera.hpp"
 #include "igi/shading/brdf_shaders.hpp"
 #include "igi/shading/gltf_material_shader.hpp"
@@ -50,6 +52,11 @@ constexpr const char* filter_choices[] = {"discontinuity", "box", "none", "atrou
 constexpr int antialiasing_choices[] = {1, 2, 4};
 /// Frames one turn of the animated light (or camera) takes: 4 s at 30 fps.
 constexpr int animation_period = 120;
+/// Seconds of the file's animation per frame while it plays: 30 frames a second, as the light's
+/// turn; a fixed step (not the clock) keeps each frame a function of its number, as in igi-render.
+constexpr double play_step = 1.0 / 30.0;
+/// Seconds one [ or ] key press moves the file's animation: three frames' worth, a visible step.
+constexpr double scrub_step = 0.1;
 
 /// A Renderer of any backend type behind one interface, so the B key can swap backends.
 class ViewRenderer {
@@ -61,6 +68,8 @@ class ViewRenderer {
   virtual void set_instance_transform(int instance, const glm::mat4& transform) = 0;
   /// Replaces punctual light `light`.
   virtual void set_light(int light, const igi::PunctualLight& value) = 0;
+  /// Applies an animation's scene changes (the camera in them is the caller's business).
+  virtual void apply(const igi::SceneChanges& changes) = 0;
   /// Frames before the last one with the same view and scene (with temporal reuse; else 0).
   virtual int still_frames() const = 0;
 };
@@ -80,6 +89,7 @@ class TypedViewRenderer final : public ViewRenderer {
     renderer_.set_instance_transform(instance, transform);
   }
   void set_light(int light, const igi::PunctualLight& value) override { renderer_.set_light(light, value); }
+  void apply(const igi::SceneChanges& changes) override { static_cast<void>(renderer_.apply(changes)); }
   int still_frames() const override { return renderer_.temporal() ? renderer_.temporal()->still_frames() : 0; }
 
  private:
@@ -111,6 +121,8 @@ struct Options : igi::programs::SceneOptions {
   std::string animate = "none";          ///< What moves from the first frame: none, light or camera.
   std::string screenshot;                ///< PNG of the last of --frames frames, or empty.
   std::string keys;                      ///< Scripted key presses, one per frame.
+  bool play = false;                     ///< Play the file's animation from the first frame.
+  std::string animation = "0";           ///< The file's animation K, [ and ] play: its name or index.
   int packet = igi::native_packet_width;  ///< Packet width at the start: one native register, as igi-render's.
   int frames = 0;                        ///< Frames before quitting (0: until closed).
   igi::RenderSettings settings;          ///< The IGI settings at the start.
@@ -131,7 +143,8 @@ int index_of(const Range& range, const Value& value, Same same) {
 constexpr const char* key_help =
     "igi-view keys: mouse drag orbit, wheel zoom, W/A/S/D fly, Q/E down/up, arrows + PageUp/PageDown move the light,\n"
     "  L animate the light, +/- VPLs per pixel, F filter, I interleaving size, N anti-aliasing, B backend/packet,\n"
-    "  T temporal reuse on/off, P screenshot, R reset view, H help, Esc quit\n";
+    "  T temporal reuse on/off, K play/pause the file's animation, [ ] step it back/forward, P screenshot,\n"
+    "  R reset view, H help, Esc quit\n";
 
 /// The SDL window, its renderer and streaming texture; released in reverse order.
 class Window {
@@ -214,6 +227,16 @@ class Viewer {
     animate_camera_ = animation == igi::Animation::camera;
     if (animate_light_ && !light_) throw UsageError("--animate light: the scene has no light that can move");
     if (options.settings.temporal_frames > 0) temporal_frames_when_on_ = options.settings.temporal_frames;
+    if (!scene.animations.empty()) {
+      try {
+        player_.emplace(scene, igi::find_animation(scene, options.animation), true);
+      } catch (const igi::SceneError& e) {
+        throw UsageError(std::string("--animation: ") + e.what());
+      }
+    } else if (options.play) {
+      throw UsageError("--play: scene '" + scene.name + "' has no animation");
+    }
+    playing_ = options.play;
     rebuild();
   }
 
@@ -307,6 +330,15 @@ class Viewer {
       camera_.orbit(glm::two_pi<float>() / float(animation_period), 0.0f);
       restart();
     }
+    if (playing_) seek(play_time_ + play_step);
+  }
+
+  /// Poses the scene at `seconds` into the file's animation (looping), if it has one.
+  void seek(double seconds) {
+    if (!player_) return;
+    play_time_ = seconds;
+    renderer_->apply((*player_)(play_time_, camera_.camera()));
+    restart();
   }
 
   /// Handles pending events; false when the viewer should quit.
@@ -358,6 +390,9 @@ class Viewer {
         restart();
         break;
       case SDLK_l: animate_light_ = !animate_light_ && light_.has_value(); break;
+      case SDLK_k: playing_ = !playing_ && player_.has_value(); break;
+      case SDLK_LEFTBRACKET: seek(play_time_ - scrub_step); break;
+      case SDLK_RIGHTBRACKET: seek(play_time_ + scrub_step); break;
       case SDLK_PLUS: case SDLK_EQUALS: case SDLK_KP_PLUS:
         settings_.vpls_per_pixel = std::min(settings_.vpls_per_pixel * 2, igi::max_vpls_per_pixel);
         rebuild();
@@ -445,6 +480,9 @@ class Viewer {
   bool animate_light_ = false;
   bool animate_camera_ = false;
   bool screenshot_requested_ = false;
+  std::optional<igi::AnimationPlayer> player_;  ///< The file's animation (none without one).
+  bool playing_ = false;                        ///< Whether it advances by play_step each frame.
+  double play_time_ = 0.0;                      ///< Seconds into it the scene is posed at.
   /// History length the T key switches temporal reuse on with: --temporal's, else 32 frames
   /// (a second at 30 fps: long enough to smooth 16-VPL noise, short enough to follow a moving view).
   int temporal_frames_when_on_ = 32;
@@ -469,7 +507,9 @@ int main(int argc, char** argv) {
   igi::programs::add_animate_option(command_line, options.animate,
                                     "what moves from the first frame: light: the light circles, camera: the view orbits the scene",
                                     {"none", "light", "camera"});
-  command_line.add("--keys", options.keys, "key presses, one per frame from the first (any of bfilnprt+-), to script a session");
+  command_line.add("--keys", options.keys, "key presses, one per frame from the first (any of bfiklnprt+-[]), to script a session");
+  command_line.flag("--play", options.play, "play the file's own animation from the first frame (K pauses it)");
+  command_line.add("--animation", options.animation, "the file's animation to play: its name or index").show_default();
   command_line.add("--screenshot", options.screenshot, "PNG of the window after the last of --frames frames (interactively: P key)");
   if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
@@ -482,8 +522,8 @@ int main(int argc, char** argv) {
     if (options.backend == "saarcor") options.packet = 64;
     if (!options.screenshot.empty() && igi::image_format(options.screenshot) != igi::ImageFormat::png)
       throw UsageError("--screenshot: '" + options.screenshot + "' must end in .png");
-    if (options.keys.find_first_not_of("bfilnprt+-") != std::string::npos)
-      throw UsageError("--keys: '" + options.keys + "' has a key other than b f i l n p r t + -");
+    if (options.keys.find_first_not_of("bfiklnprt+-[]") != std::string::npos)
+      throw UsageError("--keys: '" + options.keys + "' has a key other than b f i k l n p r t + - [ ]");
     if (!options.screenshot.empty() && options.frames == 0)
       throw UsageError("--screenshot needs --frames N (interactively, press P)");
     igi::validate(options.settings);

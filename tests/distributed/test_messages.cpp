@@ -27,6 +27,10 @@ igi::FrameHeader sample_header() {
   light.outer_cone = 0.5f;
   header.changes.lights.emplace_back(2, light);
   header.changes.instances.emplace_back(3, glm::mat4(2.0f));
+  header.changes.meshes.push_back({.mesh = 4,
+                                   .positions = {{1.0f, 2.0f, 3.0f}, {4.0f, 5.0f, 6.0f}},
+                                   .normals = {{0.0f, 1.0f, 0.0f}, {1.0f, 0.0f, 0.0f}},
+                                   .tangents = {}});
   return header;
 }
 
@@ -68,6 +72,11 @@ TEST_CASE("frame header survives encoding", "[distributed]") {
   REQUIRE(back.changes.instances.size() == 1);
   CHECK(back.changes.instances[0].first == 3);
   CHECK(back.changes.instances[0].second == glm::mat4(2.0f));
+  REQUIRE(back.changes.meshes.size() == 1);
+  CHECK(back.changes.meshes[0].mesh == 4);
+  CHECK(back.changes.meshes[0].positions == header.changes.meshes[0].positions);
+  CHECK(back.changes.meshes[0].normals == header.changes.meshes[0].normals);
+  CHECK(back.changes.meshes[0].tangents.empty());
 }
 
 TEST_CASE("tile message survives encoding and costs 3 bytes per pixel plus a fixed header", "[distributed]") {
@@ -114,6 +123,13 @@ TEST_CASE("scene changes naming missing lights or instances are refused", "[dist
   changes.lights.clear();
   changes.instances.emplace_back(int(scene.instances.size()), glm::mat4(1.0f));
   CHECK_THROWS_WITH(changes.check(scene), Catch::Contains("instance"));
+  changes.instances.clear();
+  changes.meshes.push_back({.mesh = int(scene.meshes.size()), .positions = {}, .normals = {}, .tangents = {}});
+  CHECK_THROWS_WITH(changes.check(scene), Catch::Contains("mesh " + std::to_string(scene.meshes.size())));
+  // Vertices must match the mesh's count: a skinned mesh keeps its topology.
+  changes.meshes.back().mesh = 0;
+  changes.meshes.back().positions.resize(scene.meshes[0].positions.size() + 1);
+  CHECK_THROWS_WITH(changes.check(scene), Catch::Contains("positions") && Catch::Contains("vertices"));
 }
 
 TEST_CASE("animations start at the initial scene, move afterwards and are pure functions of the frame", "[distributed]") {

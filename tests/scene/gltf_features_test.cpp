@@ -14,35 +14,22 @@
 #include <stb_image_write.h>
 
 #include "gltf_builder.hpp"
+#include "gltf_checks.hpp"
 #include "igi/scene/gltf.hpp"
 
 namespace {
 
 using igi::testing::GltfBuilder;
+using igi::testing::load_clean;
+using igi::testing::near;
+using igi::testing::tolerance;
 using igi::testing::scratch_dir;
 using json = nlohmann::json;
 namespace component = igi::testing;
 
-/// Float rounding of a few chained float operations on values of order 10.
-constexpr float tolerance = 1e-5f;
-
 /// `instance`'s mesh vertex `v` in world space.
 glm::vec3 world_vertex(const igi::Scene& scene, const igi::Instance& instance, std::size_t v) {
   return glm::vec3(instance.transform * glm::vec4(scene.meshes[std::size_t(instance.mesh)].positions[v], 1.0f));
-}
-
-/// True if `a` and `b` agree to `tolerance` in every component.
-bool near(const glm::vec3& a, const glm::vec3& b, float within = tolerance) {
-  return glm::all(glm::lessThanEqual(glm::abs(a - b), glm::vec3(within)));
-}
-
-/// Loads `file`, requiring no warnings.
-igi::Scene load_clean(const std::filesystem::path& file) {
-  std::vector<std::string> warnings;
-  igi::Scene scene = igi::load_gltf(file, &warnings);
-  for (const std::string& warning : warnings) UNSCOPED_INFO(warning);
-  CHECK(warnings.empty());
-  return scene;
 }
 
 /// Loads `file`, its warnings one per line into `warnings`.

@@ -211,6 +211,13 @@ inline std::vector<std::uint8_t> encode(const FrameHeader& header) {
     out.put(std::int32_t(index));
     out.put(transform);
   }
+  out.put(std::uint64_t(header.changes.meshes.size()));
+  for (const MeshVertices& vertices : header.changes.meshes) {
+    out.put(std::int32_t(vertices.mesh));
+    out.put_array(vertices.positions);
+    out.put_array(vertices.normals);
+    out.put_array(vertices.tangents);
+  }
   return std::move(out.bytes());
 }
 
@@ -238,6 +245,16 @@ inline FrameHeader decode_frame_header(const std::vector<std::uint8_t>& bytes) {
   for (std::uint64_t i = 0; i < instances; ++i) {
     const int index = in.get<std::int32_t>();
     header.changes.instances.emplace_back(index, in.get<glm::mat4>());
+  }
+  const auto meshes = in.get<std::uint64_t>();
+  if (meshes > bytes.size()) throw DistributedError("frame header: " + std::to_string(meshes) + " meshes cannot fit");
+  for (std::uint64_t i = 0; i < meshes; ++i) {
+    MeshVertices vertices;
+    vertices.mesh = in.get<std::int32_t>();
+    vertices.positions = in.get_array<glm::vec3>();
+    vertices.normals = in.get_array<glm::vec3>();
+    vertices.tangents = in.get_array<glm::vec4>();
+    header.changes.meshes.push_back(std::move(vertices));
   }
   in.finish();
   return header;

@@ -29,6 +29,7 @@ struct FrameStatistics {
   int vpls = 0;                   ///< VPLs in all sets.
   LuminanceStatistics luminance;  ///< Combined tile statistics.
   StageTimes stages;              ///< CPU time per pipeline stage, summed over tiles (with Renderer::set_profiling).
+  double commit_milliseconds = 0.0;  ///< Part of vpl_milliseconds: scene changes committed to the backend (BVH updates).
   /// Million rays per second over the whole frame time.
   double mrays_per_second() const noexcept {
     return milliseconds > 0.0 ? double(rays.total()) / (milliseconds * 1e3) : 0.0;
@@ -144,6 +145,7 @@ class Renderer {
     const auto end = clock::now();
     stats.milliseconds = std::chrono::duration<double, std::milli>(end - start).count();
     stats.vpl_milliseconds = std::chrono::duration<double, std::milli>(vpls_done - start).count();
+    stats.commit_milliseconds = engine_.commit_milliseconds();
     return frame;
   }
 
@@ -155,6 +157,11 @@ class Renderer {
   /// Replaces the vertex positions of mesh `mesh` (same count; takes effect at the next frame).
   void set_mesh_positions(int mesh, std::span<const glm::vec3> positions) {
     engine_.set_mesh_positions(mesh, positions);
+    scene_changed_ = true;
+  }
+  /// Replaces the vertices of a mesh (see TileEngine::set_mesh_vertices).
+  void set_mesh_vertices(const MeshVertices& vertices) {
+    engine_.set_mesh_vertices(vertices);
     scene_changed_ = true;
   }
   /// Replaces punctual light `light` (lights are read afresh every frame).

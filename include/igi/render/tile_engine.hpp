@@ -81,6 +81,14 @@ class TileEngine {
     bounds_.mesh_changed(*scene_, mesh);
     dirty_ = true;
   }
+  /// Replaces the vertices of mesh `vertices.mesh` (positions, and normals and tangents where
+  /// given; same count; takes effect at the next frame, the mesh's BVH refitted, not rebuilt).
+  void set_mesh_vertices(const MeshVertices& vertices) {
+    set_mesh_positions(vertices.mesh, vertices.positions);
+    Mesh& mesh = scene_->meshes[std::size_t(vertices.mesh)];
+    if (!vertices.normals.empty()) mesh.normals.assign(vertices.normals.begin(), vertices.normals.end());
+    if (!vertices.tangents.empty()) mesh.tangents.assign(vertices.tangents.begin(), vertices.tangents.end());
+  }
   /// Replaces punctual light `light` (lights are read afresh every frame).
   void set_light(int light, const PunctualLight& value) { scene_->lights.at(std::size_t(light)) = value; }
   /// Applies `changes` (throws SceneError on an index the scene lacks, before changing anything);
@@ -99,6 +107,11 @@ class TileEngine {
         set_instance_transform(index, transform);
         changed = true;
       }
+    for (const MeshVertices& vertices : changes.meshes)
+      if (scene_->meshes[std::size_t(vertices.mesh)].positions != vertices.positions) {
+        set_mesh_vertices(vertices);
+        changed = true;
+      }
     return changed;
   }
 
@@ -107,8 +120,11 @@ class TileEngine {
   /// `options` asks (stage timing, the tiles' PixelLayers, a scaled clamp, moved primary rays).
   void begin_frame(const Camera& camera, std::uint32_t index, const ToneMapping& tone_mapping,
                    const FrameOptions& options = {}) {
+    commit_milliseconds_ = 0.0;
     if (dirty_) {
+      const auto start = std::chrono::steady_clock::now();
       backend_->commit();
+      commit_milliseconds_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       dirty_ = false;
     }
     // In the engine's arena: a sampler's parallel loops (ImportanceVplSampler) use its threads.
@@ -266,6 +282,9 @@ class TileEngine {
   const B& backend() const noexcept { return *backend_; }
   /// The settings.
   const RenderSettings& settings() const noexcept { return settings_; }
+  /// How long the last begin_frame took to commit scene changes to the backend (instance moves,
+  /// BVH refits and rebuilds); 0 when nothing changed.
+  double commit_milliseconds() const noexcept { return commit_milliseconds_; }
 
  private:
   /// Throws unless `scene` has something to render.
@@ -374,6 +393,7 @@ class TileEngine {
   std::vector<ShadedTile> shaded_;  ///< Per tile, between its shading and composition (its G-buffer between frames too).
   FrameState frame_;
   bool dirty_ = false;
+  double commit_milliseconds_ = 0.0;  ///< The last begin_frame's backend commit.
 };
 
 }  // namespace igi

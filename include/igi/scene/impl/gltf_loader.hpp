@@ -4,7 +4,8 @@
 /// compiled once by igi/separate_compilation.hpp under IGI_SEPARATE_COMPILATION (igi/config.hpp).
 /// This part parses the file and builds materials, meshes, the node hierarchy, cameras and lights;
 /// accessors are read by igi/scene/impl/gltf_accessors.hpp, images decoded by
-/// igi/scene/impl/gltf_images.hpp.
+/// igi/scene/impl/gltf_images.hpp, animations, skins and morph targets by
+/// igi/scene/impl/gltf_animations.hpp.
 
 #include <algorithm>
 #include <cstddef>
@@ -30,9 +31,11 @@
 #include <tiny_gltf.h>
 
 #include "igi/config.hpp"
+#include "igi/scene/animation_sampling.hpp"
 #include "igi/scene/error.hpp"
 #include "igi/scene/gltf.hpp"
 #include "igi/scene/impl/gltf_accessors.hpp"
+#include "igi/scene/impl/gltf_animations.hpp"
 #include "igi/scene/impl/gltf_diagnostics.hpp"
 #include "igi/scene/impl/gltf_images.hpp"
 #include "igi/scene/scene.hpp"
@@ -65,6 +68,7 @@ class Loader {
     textures_.decode_images();
     convert_materials();
     convert_nodes();
+    convert_motion();
     with_file([&] { validate_scene(scene_, diagnostics_.warnings, diagnostics_.file.string()); });
     return std::move(scene_);
   }
@@ -74,6 +78,8 @@ class Loader {
   tinygltf::Model model_;                                 // the parsed file
   AccessorReader accessors_{model_, diagnostics_};          // reads model_'s accessors
   TextureTable textures_{model_, diagnostics_};             // decodes model_'s images
+  AnimationReader motion_{model_, accessors_, diagnostics_};  // reads model_'s nodes, animations, skins, morph targets
+  std::vector<DeformedPrimitive> deformed_;                  // primitives placed by skinned or morphed nodes
   Scene scene_;
   std::map<std::pair<int, int>, int> mesh_of_primitive_;  // (glTF mesh, primitive) -> Scene::meshes, or -1 if skipped
 
@@ -483,6 +489,23 @@ class Loader {
     return length > 0.0f && std::isfinite(length) ? n / length : glm::vec3(0.0f, 1.0f, 0.0f);
   }
 
+  // ---- motion -------------------------------------------------------------------------------
+
+  /// Reads the rest transforms, skins, animations and deformed meshes into scene_.animations, and
+  /// poses the deformed meshes at rest (skinned ones in world space, their instances at identity).
+  void convert_motion() {
+    SceneAnimations& data = scene_.animations;
+    motion_.read_nodes(data);
+    motion_.read_skins(data);
+    motion_.read_animations(data);
+    for (const DeformedPrimitive& primitive : deformed_)
+      data.deformables.push_back(motion_.read_deformable(primitive, scene_.meshes[std::size_t(primitive.mesh)], data));
+    with_file([&] {
+      check_animations(scene_);
+      AnimationPlayer::rest(scene_).apply_to(scene_);
+    });
+  }
+
   // ---- nodes --------------------------------------------------------------------------------
 
   /// The node's transform relative to its parent: `matrix`, or translation x rotation x scale.
@@ -531,6 +554,7 @@ class Loader {
       int source;        // glTF camera or light index
       int order;         // visit order, to keep duplicates stable
       std::size_t slot;  // index in the unsorted list
+      int node;          // the node placing it
     };
     std::vector<Camera> cameras;
     std::vector<Found> camera_keys;
@@ -544,6 +568,7 @@ class Loader {
       int node;
       glm::dmat4 parent;
       bool leave;
+      int parent_node = -1;
     };
     std::vector<char> on_path(model_.nodes.size(), 0);
     std::vector<char> visited(model_.nodes.size(), 0);
@@ -574,21 +599,29 @@ class Loader {
         for (int r = 0; r < 4; ++r)
           if (!std::isfinite(world[c][r])) fail(label + " has a non-finite transform");
       ++visit;
+      scene_.animations.node_order.push_back(step.node);
+      scene_.animations.nodes.resize(model_.nodes.size());
+      scene_.animations.nodes[std::size_t(step.node)].parent = step.parent_node;
 
       if (node.mesh >= 0) {
         if (std::size_t(node.mesh) >= model_.meshes.size())
           fail(label + " uses mesh " + std::to_string(node.mesh) + ", which does not exist (the file has " +
                std::to_string(model_.meshes.size()) + " meshes)");
         const std::size_t primitives = model_.meshes[std::size_t(node.mesh)].primitives.size();
+        // A skinned or morphed primitive gets a mesh of its own, as its vertices follow this node alone.
+        const bool deformed = node.skin >= 0 || motion_.has_targets(node.mesh);
         for (std::size_t p = 0; p < primitives; ++p)
-          if (const int mesh = mesh_for(node.mesh, int(p)); mesh >= 0)
+          if (const int mesh = deformed ? build_mesh(node.mesh, int(p)) : mesh_for(node.mesh, int(p)); mesh >= 0) {
+            if (deformed) deformed_.push_back({step.node, node.mesh, int(p), mesh, int(scene_.instances.size())});
             scene_.instances.push_back({.name = name, .mesh = mesh, .transform = glm::mat4(world)});
+            scene_.animations.instance_nodes.push_back(step.node);
+          }
       }
       if (node.camera >= 0) {
         if (std::size_t(node.camera) >= model_.cameras.size())
           fail(label + " uses camera " + std::to_string(node.camera) + ", which does not exist");
         if (std::optional<Camera> camera = convert_camera(node.camera, name, world)) {
-          camera_keys.push_back({node.camera, visit, cameras.size()});
+          camera_keys.push_back({node.camera, visit, cameras.size(), step.node});
           cameras.push_back(std::move(*camera));
         }
       }
@@ -601,14 +634,14 @@ class Loader {
           fail(label + " uses light " + std::to_string(light) + ", which does not exist (the file has " +
                std::to_string(model_.lights.size()) + " lights)");
         if (std::optional<PunctualLight> converted = convert_light(light, name, world)) {
-          light_keys.push_back({light, visit, lights.size()});
+          light_keys.push_back({light, visit, lights.size(), step.node});
           lights.push_back(std::move(*converted));
         }
       }
 
       stack.push_back({step.node, glm::dmat4(1.0), true});
       for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
-        stack.push_back({*child, world, false});
+        stack.push_back({*child, world, false, step.node});
     }
 
     // Cameras and lights in the order of the file's arrays (then of the nodes using them).
@@ -616,9 +649,15 @@ class Loader {
       return left.source != right.source ? left.source < right.source : left.order < right.order;
     };
     std::sort(camera_keys.begin(), camera_keys.end(), by_source);
-    for (const Found& key : camera_keys) scene_.cameras.push_back(std::move(cameras[key.slot]));
+    for (const Found& key : camera_keys) {
+      scene_.cameras.push_back(std::move(cameras[key.slot]));
+      scene_.animations.camera_nodes.push_back(key.node);
+    }
     std::sort(light_keys.begin(), light_keys.end(), by_source);
-    for (const Found& key : light_keys) scene_.lights.push_back(std::move(lights[key.slot]));
+    for (const Found& key : light_keys) {
+      scene_.lights.push_back(std::move(lights[key.slot]));
+      scene_.animations.light_nodes.push_back(key.node);
+    }
   }
 
   /// glTF camera `index` placed by `world`; orthographic cameras are skipped with a warning.
