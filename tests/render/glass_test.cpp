@@ -95,15 +95,8 @@ glm::dvec3 pane_transmittance(double cos_i) {
   return (1.0 - fresnel_by_hand(cos_i, 1.5)) * glm::dvec3(1.0, 0.8, 0.5);
 }
 
-/// The frame settings of these tests.
-RenderSettings glass_settings() {
-  RenderSettings settings;
-  settings.width = 64;
-  settings.height = 48;
-  settings.vpls_per_pixel = 4;
-  settings.threads = 2;
-  return settings;
-}
+/// The frame settings of these tests: small, few VPLs (the floor's light is the sun's exact VPL alone).
+RenderSettings glass_settings() { return {.width = 64, .height = 48, .vpls_per_pixel = 4, .threads = 2}; }
 
 /// Calls `visit(i)` for each pixel of room_with_window's camera whose floor point lies inside the
 /// sunlit patch, 0.1 from its edges (out of reach of the filter's neighbourhood across them).
@@ -133,16 +126,18 @@ Frame check_window(const Material& pane, const glm::dvec3& expected) {
     const glm::vec3 lit = open_frame.hdr.pixels[i], through = glazed_frame.hdr.pixels[i];
     REQUIRE(lit.g > 0.0f);
     bool match = true;
+    // 1e-4: float rounding of a few products; a Fresnel or tint off by 1% would be 100 times that.
     for (int c = 0; c < 3; ++c) match = match && double(through[c]) == Approx(double(lit[c]) * expected[c]).epsilon(1e-4);
     if (!match) UNSCOPED_INFO(B::name() << " pixel " << i << ": " << through.r << " " << through.g << " " << through.b << " through the pane, "
                                         << lit.r << " " << lit.g << " " << lit.b << " open");
     matching += match ? 1 : 0;
   });
   INFO(B::name() << ": " << matching << " of " << pixels << " sunlit pixels as the open window's times the pane's transmittance");
-  CHECK(pixels > 100);
+  CHECK(pixels > 100);  // the patch fills a few hundred of the 64 x 48 pixels: a check that it was found
   CHECK(matching == pixels);
   // The open window's floor has the sun's light, albedo / pi x irradiance x cos 45 degrees.
   const float sunlit = 0.8f / 3.14159265f * sun_irradiance * std::sqrt(0.5f);
+  // 1e-3: float rounding, with room for the filter's sums; the VPLs' light would be 0 or far more.
   for_each_sunlit_pixel(open, settings, [&](std::size_t i) { CHECK(open_frame.hdr.pixels[i].g == Approx(sunlit).epsilon(1e-3)); });
   return glazed_frame;
 }
@@ -157,7 +152,7 @@ TEMPLATE_TEST_CASE("glass: the sun on the floor of a room whose only window is a
   // Every backend gives the same image (Embree's 8 wide as the yardstick).
   Scene scene = room_with_window(glass_pane());
   const Frame yardstick = render_once<EmbreeBackend<8>>(scene, glass_settings());
-  CHECK(differing_pixels(yardstick, glazed, 1e-4f) == 0);
+  CHECK(differing_pixels(yardstick, glazed, 1e-4f) == 0);  // up to the float rounding of hit points
 }
 
 TEMPLATE_TEST_CASE("glass: an alpha-blended pane of alpha 0.25 lets 0.75 of the sun in, on every backend", "[render][glass]",
@@ -209,7 +204,7 @@ TEST_CASE("glass: camera rays see the sunlit floor through a pane from outside, 
       // Where the ray crosses the roof's plane and meets the floor.
       const glm::vec3 roof = eye + direction * ((eye.y - roof_height) / -direction.y);
       const glm::vec3 floor = eye + direction * (eye.y / -direction.y);
-      const float margin = 0.1f;
+      const float margin = 0.1f;  // as for_each_sunlit_pixel: off the window's and the patch's edges
       if (std::abs(roof.x - window_x) > window_half - margin || std::abs(roof.z) > window_half - margin) continue;
       if (std::abs(floor.x - (window_x + roof_height)) > window_half - margin || std::abs(floor.z) > window_half - margin) continue;
       ++pixels;
@@ -217,11 +212,12 @@ TEST_CASE("glass: camera rays see the sunlit floor through a pane from outside, 
       const glm::dvec3 expected = pane_transmittance(std::sqrt(0.5)) * pane_transmittance(double(-direction.y));
       const glm::vec3 lit = open_frame.hdr.pixels[i], through = glazed_frame.hdr.pixels[i];
       bool match = lit.g > 0.0f;
+      // 1e-3: the view's angle is recomputed here from the pixel centre, a few ulps off the renderer's ray.
       for (int c = 0; c < 3; ++c) match = match && double(through[c]) == Approx(double(lit[c]) * expected[c]).epsilon(1e-3);
       matching += match ? 1 : 0;
     }
   INFO(matching << " of " << pixels << " pixels seeing the sunlit floor through the window as expected");
-  CHECK(pixels > 30);
+  CHECK(pixels > 30);  // the window shows the patch in some dozens of pixels: a check that they were found
   CHECK(matching == pixels);
 }
 
@@ -247,7 +243,8 @@ TEST_CASE("glass: the path tracer agrees with IGI on the glazed room's floor", "
     INFO("channel " << c);
     // IGI's floor has the sun's light alone; the path tracer's also a little the pane reflects
     // back down of the floor's light (its Fresnel 5% of a few percent of the floor's view).
-    CHECK(igi_sum[c] / pixels == Approx(expected[c]).epsilon(1e-3));
+    CHECK(igi_sum[c] / pixels == Approx(expected[c]).epsilon(1e-3));  // float rounding, as above
+    // 1%: the pane's reflection of the floor's light (about 0.1%) and its noise at 16 samples.
     CHECK(path_sum[c] / pixels == Approx(expected[c]).epsilon(0.01));
   }
 }
@@ -295,6 +292,7 @@ TEMPLATE_TEST_CASE("glass: glass with a volume (thickness) still refracts by Sne
   SecondaryRays<W> reflection, refraction;
   StandardBrdf{}.spawn(hit, p, reflection, refraction, mask);
   const double fresnel = fresnel_by_hand(std::cos(angle), 1.33);
+  // Tolerances: float rounding of the shader's few operations (1e-4; exact directions to 1e-5).
   for (int i = 0; i < W; ++i) {
     INFO("lane " << i);
     REQUIRE(refraction.active[i]);
@@ -348,16 +346,48 @@ TEST_CASE("glass: a solid glass block with a volume displaces the floor seen thr
       StandardBrdf{}.spawn(surface, p, reflection, refraction, one);
       REQUIRE(refraction.active[0]);
       along = glm::normalize(refraction.direction[0]);
+      // 1e-4: off the face by far more than the float rounding of a unit-sized scene, far less than the slab.
       origin = leave_surface(surface.position, surface.geometric_normal, refraction.direction, 1e-4f)[0];
       ray.set(vec3<1>(origin), vec3<1>(along), vfloat<1>(0.0f), vfloat<1>(100.0f), one);
     }
     // Out of the slab at y = 0.4 along the incoming direction either way; it meets y = 0 at
     // x = 0.5 along the straight line, short of it after the solid's two refractions.
+    // 1e-4: float rounding of two refractions; 1e-3 on the floor: of the hit points, against a shift of 0.09.
     CHECK(along.x == Approx(direction.x).epsilon(1e-4));
     CHECK(along.y == Approx(direction.y).epsilon(1e-4));
     const float floor_x = origin.x + along.x * (origin.y / -along.y);
     // Inside the slab the solid's ray runs at asin(sin 45 / 1.5) = 28.1 degrees: 0.2 x (1 - tan 28.1) = 0.093 shorter.
     const float shift = 0.2f * (1.0f - std::tan(std::asin(std::sqrt(0.5f) / 1.5f)));
     CHECK(floor_x == Approx(solid ? 0.5f - shift : 0.5f).margin(1e-3));
+  }
+}
+
+TEST_CASE("glass: light particles pass a thin pane weighted by its transmittance: the floor's VPLs carry the open "
+          "window's power times it", "[render][glass]") {
+  // The sun's walks through the window leave their first bounce on the floor; the sum of the
+  // floor VPLs' intensities estimates the power the window lets in (times albedo / pi).
+  const auto floor_power = [](Scene scene) {
+    const EmbreeBackend<8> backend(scene);
+    // The walks that miss the window end on the black roof and leave no VPL, so the walk count
+    // reaches its cap, 16 M = 6400 per set, a few hundred of all sets' through the window: the
+    // same walks in both rooms up to the pane.
+    const VplSettings settings{.sets = 9, .vpls_per_set = 400, .frame = 1, .seed = 3};
+    const VplSets vpls = QmcVplSampler{}.generate(scene, backend, GltfMaterialShader(scene), StandardBrdf{}, settings);
+    glm::dvec3 sum(0.0);
+    for (const std::vector<Vpl>& set : vpls.sets)
+      for (const Vpl& vpl : set)
+        if (vpl.kind == VplKind::surface && std::abs(vpl.position.y) < 1e-3f) sum += glm::dvec3(vpl.intensity);  // on the floor
+    return sum;
+  };
+  const glm::dvec3 open = floor_power(room_with_window(std::nullopt));
+  const glm::dvec3 glazed = floor_power(room_with_window(glass_pane()));
+  const glm::dvec3 expected = pane_transmittance(std::sqrt(0.5));
+  for (int c = 0; c < 3; ++c) {
+    INFO("channel " << c << ": " << glazed[c] << " through the pane, " << open[c] << " open");
+    REQUIRE(open[c] > 0.0);
+    // 3%: the walks' sampling error (the pane's 5% Fresnel reflection decides each walk's way
+    // there), about 1% for a few hundred walks; a blocking pane gives 0, an ignored tint or
+    // Fresnel 5-50% off.
+    CHECK(glazed[c] / open[c] == Approx(expected[c]).epsilon(0.03));
   }
 }
