@@ -5,6 +5,7 @@
 // lit through a glazed window was black.
 
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <type_traits>
 #include <utility>
@@ -314,7 +315,7 @@ TEMPLATE_TEST_CASE("glass: glass with a volume (thickness) still refracts by Sne
 
 TEST_CASE("glass: a solid glass block with a volume displaces the floor seen through it; a thin one does not",
           "[render][glass]") {
-  // A camera ray at 45 degrees through a glass slab 0.2 thick (ior 1.5) on a floor: refracted
+  // A ray at 45 degrees through a glass slab 0.2 thick (ior 1.5) on a floor: refracted
   // at both faces, it comes out parallel but shifted, and meets the floor elsewhere.
   for (const bool solid : {true, false}) {
     Scene scene;
@@ -390,4 +391,69 @@ TEST_CASE("glass: light particles pass a thin pane weighted by its transmittance
     // Fresnel 5-50% off.
     CHECK(glazed[c] / open[c] == Approx(expected[c]).epsilon(0.03));
   }
+}
+
+namespace {
+
+/// Shadow rays of `B` straight up from y = 0.01 (length 2) through a cut-out sheet at y = 0.5,
+/// transparent over x < 0 and opaque over x > 0, and then a glass_pane() at y = 1 over all of
+/// it: shadow_transmittance gives the pane's transmittance at normal incidence where the
+/// cut-out lets the ray on, 0 where it stops it; with `test` the backend's cut-out test is set.
+template <class B>
+void check_cutout_and_pane(bool test) {
+  Scene scene;
+  Texture stencil{.name = "stencil", .width = 16, .height = 1, .texels = std::vector<std::uint8_t>(16 * 4, 255)};
+  for (int x = 0; x < 8; ++x) stencil.texels[std::size_t(x) * 4 + 3] = 0;
+  scene.textures.push_back(stencil);
+  const int sheet = add_material(scene, glm::vec3(0.0f));
+  scene.materials[std::size_t(sheet)].base_color_texture = 0;
+  scene.materials[std::size_t(sheet)].alpha_mode = AlphaMode::mask;
+  add_quad(scene, {0.0f, 0.5f, 0.0f}, {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 2.0f, sheet);
+  scene.materials.push_back(glass_pane());
+  add_quad(scene, {0.0f, 1.0f, 0.0f}, {1, 0, 0}, {0, 0, 1}, {0, -1, 0}, 2.0f, int(scene.materials.size()) - 1);
+  const GltfMaterialShader surface(scene);
+  B backend(scene);
+  if constexpr (CutoutTestingBackend<B>)
+    if (test) test_cutouts_with(backend, scene, surface);
+  const SceneGeometry geometry(scene);
+  constexpr int W = B::width;
+  const glm::dvec3 pane = pane_transmittance(1.0);
+  int checked = 0;
+  for (int row = 0; row < 4; ++row) {
+    RayPacket<W> rays;
+    vec3<W> origin;
+    float xs[W];
+    for (int lane = 0; lane < W; ++lane) {
+      xs[lane] = W == 1 ? -1.5f + 1.0f * float(row) : -1.8f + 3.6f * float(lane) / float(W - 1);
+      origin.set(lane, glm::vec3(xs[lane], 0.01f, -0.6f + 0.4f * float(row)));
+    }
+    vmask<W> mask(true);
+    if (W > 1) mask.set(0, false);  // an inactive lane gets nothing
+    rays.set(origin, vec3<W>(glm::vec3(0.0f, 1.0f, 0.0f)), vfloat<W>(0.0f), vfloat<W>(2.0f), mask);
+    const vec3<W> light = shadow_transmittance(backend, surface, scene, geometry, CutoutMeshes(scene), SeeThroughMeshes(scene),
+                                               1e-4f, rays, Coherence::coherent, mask);
+    for (int lane = 0; lane < W; ++lane) {
+      INFO(B::name() << (test ? " with" : " without") << " its cut-out test: lane " << lane << ", x = " << xs[lane]);
+      if (!mask[lane]) {
+        CHECK(light[lane] == glm::vec3(0.0f));
+        continue;
+      }
+      CHECK(rays.tfar[lane] == 2.0f);  // the rays are left as they came
+      // Within 0.1 of the cut-out's edge its bilinear alpha blends: left out.
+      if (std::abs(xs[lane]) < 0.1f) continue;
+      ++checked;
+      for (int c = 0; c < 3; ++c)
+        CHECK(double(light[lane][c]) == Approx(xs[lane] < 0.0f ? pane[c] : 0.0).margin(1e-5));  // float rounding
+    }
+  }
+  CHECK(checked >= (W == 1 ? 2 : W));
+}
+
+}  // namespace
+
+TEMPLATE_TEST_CASE("glass: shadow rays through a cut-out and a pane: the pane's transmittance where the cut-out is "
+                   "transparent, none where it is opaque, with the backend's cut-out test and without it",
+                   "[render][glass]", EmbreeBackend<8>, EmbreeBackend<1>, ReferenceBackend<8>, SaarcorBackend) {
+  check_cutout_and_pane<TestType>(true);
+  check_cutout_and_pane<TestType>(false);
 }
