@@ -402,13 +402,7 @@ namespace {
 template <class B>
 void check_cutout_and_pane(bool test) {
   Scene scene;
-  Texture stencil{.name = "stencil", .width = 16, .height = 1, .texels = std::vector<std::uint8_t>(16 * 4, 255)};
-  for (int x = 0; x < 8; ++x) stencil.texels[std::size_t(x) * 4 + 3] = 0;
-  scene.textures.push_back(stencil);
-  const int sheet = add_material(scene, glm::vec3(0.0f));
-  scene.materials[std::size_t(sheet)].base_color_texture = 0;
-  scene.materials[std::size_t(sheet)].alpha_mode = AlphaMode::mask;
-  add_quad(scene, {0.0f, 0.5f, 0.0f}, {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 2.0f, sheet);
+  add_stencil_sheet(scene, 0.5f);
   scene.materials.push_back(glass_pane());
   add_quad(scene, {0.0f, 1.0f, 0.0f}, {1, 0, 0}, {0, 0, 1}, {0, -1, 0}, 2.0f, int(scene.materials.size()) - 1);
   const GltfMaterialShader surface(scene);
