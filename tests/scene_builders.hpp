@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -79,6 +80,20 @@ inline void add_quad(Scene& scene, const glm::vec3& center, const glm::vec3& u_a
   add_quad(mesh, center - half * u_axis - half * v_axis, center + half * u_axis - half * v_axis,
            center + half * u_axis + half * v_axis, center - half * u_axis + half * v_axis, normal);
   add_object(scene, std::move(mesh), material, transform);
+}
+
+/// Adds a black alpha cut-out (alphaMode MASK) sheet facing up at height `y` over x, z in
+/// [-2, 2], as its own mesh and instance: transparent where x < 0, opaque where x > 0. Its
+/// texture is 16 texels across, alpha 0 in the left 8 and 255 in the right 8, so bilinear
+/// lookups blend neighbours only within a texel of u = 0.5 and (repeat wrapping) of the edges.
+inline void add_stencil_sheet(Scene& scene, float y) {
+  Texture stencil{.name = "stencil", .width = 16, .height = 1, .texels = std::vector<std::uint8_t>(16 * 4, 255)};
+  for (int x = 0; x < 8; ++x) stencil.texels[std::size_t(x) * 4 + 3] = 0;
+  scene.textures.push_back(stencil);
+  const int sheet = add_material(scene, glm::vec3(0.0f));
+  scene.materials[std::size_t(sheet)].base_color_texture = int(scene.textures.size()) - 1;
+  scene.materials[std::size_t(sheet)].alpha_mode = AlphaMode::mask;
+  add_quad(scene, {0.0f, y, 0.0f}, {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 2.0f, sheet);
 }
 
 /// Faces of box_mesh, in the order it adds them.

@@ -35,15 +35,7 @@ Scene stencil_under_sun(bool bar) {
   // A second instance of the floor, far below, so that the stencil's mesh (1) and instance (2)
   // have different indices.
   scene.instances.push_back({.name = "floor below", .mesh = 0, .transform = glm::translate(glm::mat4(1.0f), glm::vec3(0, -10, 0))});
-  // 16 texels across: alpha 0 in the left 8, 255 in the right 8. Bilinear lookups blend
-  // neighbours only within a texel of u = 0.5 and (repeat wrapping) of the edges.
-  Texture stencil{.name = "stencil", .width = 16, .height = 1, .texels = std::vector<std::uint8_t>(16 * 4, 255)};
-  for (int x = 0; x < 8; ++x) stencil.texels[std::size_t(x) * 4 + 3] = 0;
-  scene.textures.push_back(stencil);
-  const int sheet = add_material(scene, glm::vec3(0.0f));
-  scene.materials[std::size_t(sheet)].base_color_texture = 0;
-  scene.materials[std::size_t(sheet)].alpha_mode = AlphaMode::mask;
-  add_quad(scene, {0.0f, 0.5f, 0.0f}, {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 2.0f, sheet);
+  add_stencil_sheet(scene, 0.5f);
   if (bar) {
     Mesh mesh;
     mesh.name = "bar";

@@ -58,31 +58,54 @@ struct OcclusionCandidate {
 /// Called from every tracing thread at once: it must be thread-safe.
 using CutoutTest = std::function<bool(const OcclusionCandidate&)>;
 
-/// Which meshes of a scene are alpha cut-outs (their material's alphaMode is MASK); empty when
-/// none is, so scenes without cut-outs pay nothing. A material index the scene lacks counts as
-/// no cut-out (validate_scene and the shaders report it).
-class CutoutMeshes {
+/// The meshes of a scene whose material a rule picks; empty when it picks none, so scenes
+/// without such meshes pay nothing. A material index the scene lacks is never picked
+/// (validate_scene and the shaders report it).
+class MaterialMeshes {
  public:
   /// None.
-  CutoutMeshes() = default;
-  /// The cut-out meshes of `scene` (materials do not change with the frame, only transforms and positions).
-  explicit CutoutMeshes(const Scene& scene) {
+  MaterialMeshes() = default;
+  /// The meshes of `scene` whose material `picked(material)` is true for (materials do not
+  /// change with the frame, only transforms and positions).
+  template <class Pick>
+  MaterialMeshes(const Scene& scene, Pick picked) {
     for (std::size_t mesh = 0; mesh < scene.meshes.size(); ++mesh) {
       const int material = scene.meshes[mesh].material;
-      if (material >= 0 && std::size_t(material) < scene.materials.size() &&
-          scene.materials[std::size_t(material)].alpha_mode == AlphaMode::mask) {
+      if (material >= 0 && std::size_t(material) < scene.materials.size() && picked(scene.materials[std::size_t(material)])) {
         meshes_.resize(scene.meshes.size(), false);
         meshes_[mesh] = true;
       }
     }
   }
-  /// Whether any mesh is a cut-out.
+  /// Whether any mesh is picked.
   bool any() const noexcept { return !meshes_.empty(); }
-  /// Whether mesh `mesh` is a cut-out (false for ids outside the scene).
+  /// Whether mesh `mesh` is picked (false for ids outside the scene).
   bool contains(std::size_t mesh) const noexcept { return mesh < meshes_.size() && meshes_[mesh]; }
 
  private:
   std::vector<bool> meshes_;
+};
+
+/// Which meshes of a scene are alpha cut-outs (their material's alphaMode is MASK).
+class CutoutMeshes : public MaterialMeshes {
+ public:
+  /// None.
+  CutoutMeshes() = default;
+  /// The cut-out meshes of `scene`.
+  explicit CutoutMeshes(const Scene& scene)
+      : MaterialMeshes(scene, [](const Material& material) { return material.alpha_mode == AlphaMode::mask; }) {}
+};
+
+/// Which meshes of a scene light passes straight through in part (Material::see_through:
+/// thin-walled transmission, alphaMode BLEND), so shadow rays crossing them are attenuated,
+/// not stopped.
+class SeeThroughMeshes : public MaterialMeshes {
+ public:
+  /// None.
+  SeeThroughMeshes() = default;
+  /// The see-through meshes of `scene`.
+  explicit SeeThroughMeshes(const Scene& scene)
+      : MaterialMeshes(scene, [](const Material& material) { return material.see_through(); }) {}
 };
 
 /// A backend whose occlusion queries can pass through alpha cut-outs during traversal: with a

@@ -58,6 +58,7 @@ struct FrameState {
   const Scene* scene = nullptr;                ///< The scene as of this frame.
   SceneGeometry geometry;                      ///< The scene's instance matrices as of this frame.
   CutoutMeshes cutouts;                        ///< The scene's alpha cut-out meshes, which shadow rays pass where transparent.
+  SeeThroughMeshes see_through;                ///< The scene's thin-walled glass and alpha-blended meshes, which shadow rays pass attenuated.
   std::optional<PinholeProjection> projection; ///< Primary-ray generator; empty before prepare.
   VplSets vpls;                                ///< This frame's VPL sets (S^2 of them).
   RenderSettings settings;                     ///< Resolution, S, M, N, ...
@@ -89,6 +90,7 @@ struct FrameState {
     }
     assign_vpl_radii(vpls);
     cutouts = CutoutMeshes(scene);
+    see_through = SeeThroughMeshes(scene);
     this->scene = &scene;
     geometry.update(scene);
     projection.emplace(frame_projection);

@@ -44,6 +44,7 @@
 #include "igi/shading/brdf_sampling.hpp"
 #include "igi/shading/brdf_shader.hpp"
 #include "igi/shading/constants.hpp"
+#include "igi/shading/cutout_occlusion.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 #include "igi/shading/surface_shader.hpp"
 #include "igi/simd/sampling.hpp"
@@ -107,6 +108,8 @@ class PathTracer {
     if (!std::isfinite(ray_epsilon_) || !(ray_epsilon_ > 0.0f))
       throw std::invalid_argument("PathTracer: scene '" + scene.name + "' has non-finite or empty bounds");
     has_cutouts_ = CutoutMeshes(scene).any();
+    see_through_ = SeeThroughMeshes(scene);
+    if (see_through_.any()) cutouts_ = CutoutMeshes(scene);
   }
 
   /// Starts a new image of `camera` at width x height (zero samples). Throws SettingsError on a bad size.
@@ -249,6 +252,19 @@ class PathTracer {
     return false;
   }
 
+  /// Per colour, the light that gets from `origin` along unit `direction` up to `distance`: 0 or
+  /// 1 as visible() says, and in a scene with see-through surfaces (thin-walled glass, alpha
+  /// blending) dimmed by each one crossed (shadow_transmittance; counted as one shadow ray).
+  glm::vec3 transmittance(const glm::vec3& origin, const glm::vec3& direction, float distance, std::uint64_t& count) const {
+    if (!see_through_.any()) return glm::vec3(visible(origin, direction, distance, count) ? 1.0f : 0.0f);
+    RayPacket<1> ray;
+    const vmask<1> one(true);
+    ray.set(vec3<1>(origin), vec3<1>(direction), vfloat<1>(0.0f), vfloat<1>(distance), one);
+    ++count;
+    return shadow_transmittance(*backend_, *surface_, *scene_, geometry_, cutouts_, see_through_, ray_epsilon_, ray,
+                                Coherence::incoherent, one)[0];
+  }
+
   /// Radiance arriving at `origin` from `direction`.
   glm::vec3 trace_path(const glm::vec3& origin, const glm::vec3& direction, Rng& rng, PathTracerStatistics& counts) const {
     glm::vec3 radiance(0.0f), throughput(1.0f);
@@ -308,10 +324,11 @@ class PathTracer {
             // Stop short of the light by two offsets so the emitter's own surface does not block it.
             const float length = std::isfinite(light.distance) ? std::max(light.distance - 2.0f * ray_epsilon_, 0.0f)
                                                                : std::numeric_limits<float>::infinity();
-            if (visible(shadow_origin, light.wi, length, counts.rays.shadow)) {
+            const glm::vec3 passed = transmittance(shadow_origin, light.wi, length, counts.rays.shadow);
+            if (largest(passed) > 0.0f) {
               const float weight =
                   light.delta ? 1.0f : power_heuristic(light.pdf, smooth / total * lobes.pdf(light.wi));
-              radiance += throughput * f * light.incident * (weight / light.pdf);
+              radiance += throughput * f * light.incident * passed * (weight / light.pdf);
             }
           }
         }
@@ -360,6 +377,8 @@ class PathTracer {
   tbb::task_arena arena_;
   float ray_epsilon_ = 1e-4f;
   bool has_cutouts_ = false;
+  CutoutMeshes cutouts_;          ///< The alpha cut-out meshes, kept only where see-through ones are too (transmittance).
+  SeeThroughMeshes see_through_;  ///< Thin-walled glass and alpha-blended meshes, which shadow rays pass attenuated.
   std::optional<PinholeProjection> projection_;
   std::vector<glm::dvec3> sums_;
   int samples_ = 0;

@@ -12,8 +12,9 @@
 ///   3. the surface shader turns every hit into BRDF parameters (alpha cut-outs re-traced);
 ///   4. for each VPL of the set's k-th subset (and the delta lights' exact VPLs, in every
 ///      sub-sample), for each packet: a coherent shadow packet, one occlusion query (which passes
-///      alpha cut-outs where they are transparent: occluded_by_opaque), and the BRDF shader's
-///      masked contribution;
+///      alpha cut-outs where they are transparent: occluded_by_opaque; in a scene with
+///      thin-walled glass or alpha blending, shadow_transmittance dims the light by what those
+///      let through), and the BRDF shader's masked contribution;
 ///   4b. with bias compensation (RenderSettings::compensation_rays), short gather rays from the
 ///       primary hits return the light the 1/d^2 clamp removed (see `compensate`);
 ///   5. mirror and glass rays spawned by the BRDF shader run steps 2-4 again, level by level;
@@ -534,6 +535,12 @@ class Pipeline {
             play_roulette(frame, std::uint32_t(j), packet, geometry, intensity, shadow, packet.*into, work, counts);
             continue;
           }
+          if (frame.see_through.any()) {
+            VplAccumulator<W> light;
+            add_vpl(packet, geometry, intensity, light, geometry.reaches);
+            add_through(frame, light, vfloat<W>(1.0f), shadow, geometry.reaches, packet.*into, work, counts);
+            continue;
+          }
           vmask<W> occluded;
           {
             const StageTimer timer(work.timing(&StageTimes::shadow));
@@ -553,6 +560,23 @@ class Pipeline {
   vmask<W> occluded_by_opaque(const FrameState& frame, RayPacket<W>& shadow, const vmask<W>& mask) const {
     return igi::occluded_by_opaque(*backend_, *surface_, *frame.scene, frame.geometry, frame.cutouts, frame.ray_epsilon, shadow,
                                    Coherence::coherent, mask);
+  }
+
+  /// Step 4 in a scene with see-through surfaces (thin-walled glass, alpha blending): `light`,
+  /// one VPL's unoccluded light on the lanes of `traced`, times `weight`, times what gets through
+  /// to the VPL along `shadow` (igi::shadow_transmittance, per colour), into `into`.
+  void add_through(const FrameState& frame, const VplAccumulator<W>& light, const vfloat<W>& weight, RayPacket<W>& shadow,
+                   const vmask<W>& traced, VplAccumulator<W>& into, Workspace& work, RayCounts& counts) const {
+    vec3<W> passed;
+    {
+      const StageTimer timer(work.timing(&StageTimes::shadow));
+      passed = shadow_transmittance(*backend_, *surface_, *frame.scene, frame.geometry, frame.cutouts, frame.see_through,
+                                    frame.ray_epsilon, shadow, Coherence::coherent, traced);
+    }
+    counts.shadow += std::uint64_t(popcount(traced));
+    passed = passed * weight;
+    into.irradiance += keep(light.irradiance * passed, traced);
+    into.glossy += keep(light.glossy * passed, traced);
   }
 
   /// Step 4 for one VPL and packet with shadow-ray Russian roulette: the VPL's unoccluded light is
@@ -586,6 +610,10 @@ class Pipeline {
       boost = select(faint, vfloat<W>(1.0f) / max(probability, vfloat<W>(std::numeric_limits<float>::min())), boost);
     }
     if (none(traced)) return;
+    if (frame.see_through.any()) {
+      add_through(frame, light, boost, shadow, traced, into, work, counts);
+      return;
+    }
     vmask<W> occluded;
     {
       const StageTimer timer(work.timing(&StageTimes::shadow));

@@ -74,6 +74,14 @@ struct Material {
   UvTransform emissive_transform;                      ///< That texture's KHR_texture_transform.
   float transmission = 0.0f;                           ///< KHR_materials_transmission factor.
   float ior = 1.5f;                                    ///< KHR_materials_ior (glTF default 1.5).
+  /// KHR_materials_volume thicknessFactor: 0 (glTF's default, and without the extension) makes
+  /// the transmission thin-walled, a sheet light passes straight through; above 0 the mesh
+  /// bounds a solid that refracts.
+  float thickness = 0.0f;
+  /// KHR_materials_volume attenuationDistance: how far light travels in the solid before
+  /// attenuation_color is left of it (infinite: no absorption). Parsed; igi's glass does not absorb.
+  float attenuation_distance = std::numeric_limits<float>::infinity();
+  glm::vec3 attenuation_color{1.0f};  ///< KHR_materials_volume attenuationColor (linear).
   /// KHR_materials_specular specularFactor: scales the dielectric part's specular reflection (its
   /// Fresnel reflectance at normal and grazing incidence). glTF's default 1 gives every
   /// non-metal the 4% reflection of ior 1.5; 0 makes it exactly Lambertian (igi's built-in
@@ -110,6 +118,11 @@ struct Material {
     return {&base_color_transform, &emissive_transform,       &metallic_roughness_transform, &normal_transform,
             &specular_transform,   &specular_color_transform, &clearcoat_transform,          &clearcoat_roughness_transform};
   }
+  /// True if its transmission is glTF's thin-walled kind: some, and no volume (thickness 0), or
+  /// alpha-blended (a blended surface is a sheet whatever its thickness).
+  bool thin_walled() const noexcept { return transmission > 0.0f && (!(thickness > 0.0f) || alpha_mode == AlphaMode::blend); }
+  /// True if light passes the surface straight on in part: thin-walled transmission or alphaMode BLEND.
+  bool see_through() const noexcept { return thin_walled() || alpha_mode == AlphaMode::blend; }
   /// True if the material emits light.
   bool emissive() const noexcept { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
 };

@@ -194,6 +194,10 @@ inline void validate_scene(Scene& scene, std::vector<std::string>* warnings = nu
         !std::isfinite(material.normal_scale) || !std::isfinite(material.specular) || !detail::finite(material.specular_color) ||
         !std::isfinite(material.clearcoat) || !std::isfinite(material.clearcoat_roughness))
       throw SceneError(detail::located(where, "material '" + material.name + "' has a non-finite parameter"));
+    if (!(material.thickness >= 0.0f) || !std::isfinite(material.thickness) || !(material.attenuation_distance > 0.0f) ||
+        !detail::finite(material.attenuation_color))
+      throw SceneError(detail::located(where, "material '" + material.name + "' has a negative or non-finite volume thickness, a "
+                                                  "non-positive attenuation distance or a non-finite attenuation colour"));
     for (const UvTransform* transform : material.transforms())
       for (int column = 0; column < 3; ++column)
         if (!std::isfinite(transform->matrix[column].x) || !std::isfinite(transform->matrix[column].y))

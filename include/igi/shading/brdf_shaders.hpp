@@ -16,7 +16,10 @@
 ///   next to a traced ray, and Schlick is poor for light leaving the denser medium near the
 ///   critical angle); reflection weight transmission x F, refraction weight transmission x (1 - F),
 ///   and all of it reflected under total internal reflection. The ray enters the medium on front
-///   faces (eta = 1 / ior) and leaves it on back faces (eta = ior).
+///   faces (eta = 1 / ior) and leaves it on back faces (eta = ior);
+/// - thin-walled glass (glTF transmission without a volume): the same Fresnel reflection, and
+///   light passing straight on with weight transmission x (1 - F) x base colour; alpha-blended
+///   surfaces pass 1 - alpha straight on too (straight_transmittance).
 
 #include <cmath>
 #include <cstdint>
@@ -138,8 +141,59 @@ vec3<W> evaluate_diffuse_glossy(const SurfaceHit<W>& hit, const BrdfParameters<W
   return keep(f * cosine, lanes);
 }
 
+/// The exact unpolarised Fresnel reflectance F = (r_s^2 + r_p^2) / 2 of a dielectric interface
+/// for light at `cos_i` (in [0, 1]) to its normal, `eta` the ratio of the indices of refraction
+/// (incident side over far side); 1 under total internal reflection. `cos_t` gets the refracted
+/// ray's cosine (0 under total internal reflection).
+template <int W>
+vfloat<W> dielectric_fresnel(const vfloat<W>& cos_i, const vfloat<W>& eta, vfloat<W>& cos_t) noexcept {
+  const vfloat<W> zero(0.0f), one(1.0f);
+  const vfloat<W> sin2_t = eta * eta * (one - cos_i * cos_i);
+  const vmask<W> total_internal = sin2_t >= one;
+  cos_t = sqrt(max(one - sin2_t, zero));
+  // Denominators vanish only when both cosines are 0 (grazing at the critical angle); the
+  // floor keeps the ratio finite there, where the limit is total reflection anyway.
+  const vfloat<W> tiny(1e-12f);
+  const vfloat<W> r_s = (eta * cos_i - cos_t) / max(eta * cos_i + cos_t, tiny);
+  const vfloat<W> r_p = (cos_i - eta * cos_t) / max(cos_i + eta * cos_t, tiny);
+  return select(total_internal, one, clamp(vfloat<W>(0.5f) * (r_s * r_s + r_p * r_p), zero, one));
+}
+
+/// `parameters.ior`, with a non-positive or non-finite ior taken as glTF's default 1.5.
+template <int W>
+vfloat<W> usable_ior(const BrdfParameters<W>& parameters) noexcept {
+  const vfloat<W>& raw = parameters.ior;
+  return select(isfinite(raw) & (raw > vfloat<W>(0.0f)), raw, vfloat<W>(1.5f));
+}
+
+/// What of a thin wall's transmission `t` (in [0, 1]) passes it on the lanes of `thin`, light
+/// at `cos_i` to its normal: t x (1 - F) x transmission_tint, F the Fresnel reflectance of one
+/// interface from air (eta = 1 / ior on either face). One interface, not a slab's two with their
+/// inter-reflections ((1 - F) / (1 + F)): glTF defines a thin wall's BSDF by its surface's
+/// Fresnel mix alone, so a pane passes what it passes in every glTF viewer, and reflection F plus
+/// transmission 1 - F keep its energy. `fresnel` gets F on those lanes.
+template <int W>
+vec3<W> thin_wall_transmittance(const BrdfParameters<W>& parameters, const vfloat<W>& t, const vfloat<W>& cos_i,
+                                vfloat<W>& fresnel, const vmask<W>& thin) noexcept {
+  vfloat<W> cos_t;
+  const vfloat<W> f = dielectric_fresnel(cos_i, vfloat<W>(1.0f) / usable_ior(parameters), cos_t);
+  fresnel = select(thin, f, fresnel);
+  return keep(parameters.transmission_tint * (t * (vfloat<W>(1.0f) - f)), thin);
+}
+
+/// The clamped transmission weight of `transmission` (NaN counts as none).
+template <int W>
+vfloat<W> usable_transmission(const vfloat<W>& transmission) noexcept {
+  const vfloat<W> zero(0.0f);
+  return clamp(select(isfinite(transmission), transmission, zero), zero, vfloat<W>(1.0f));
+}
+
 /// Mirror reflection and dielectric refraction streams with weights
-/// reflection = mirror + transmission x F, refraction = transmission x (1 - F).
+/// reflection = mirror + transmission x F, refraction = transmission x (1 - F). Where the
+/// transmission is thin-walled (and where the surface passes light on: pass_through), the
+/// "refraction" goes straight on (-wo) with weight pass_through + transmission x (1 - F) x
+/// transmission_tint (thin_wall_transmittance); a solid's refraction is then not added (the glTF
+/// shader makes any blended transmission thin-walled).
 template <int W>
 vmask<W> spawn_specular(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const vec3<W>& mirror,
                         const vfloat<W>& transmission, SecondaryRays<W>& reflection,
@@ -157,35 +211,38 @@ vmask<W> spawn_specular(const SurfaceHit<W>& hit, const BrdfParameters<W>& param
   reflected = select(dot(reflected, geometric) > zero, reflected, normalize(reflect(hit.wo, geometric)));
 
   // Dielectric interface.
-  const vfloat<W> t = clamp(select(isfinite(transmission), transmission, zero), zero, one);
+  const vfloat<W> t = usable_transmission(transmission);
   const vmask<W> glass = lanes & (t > zero);
+  const vmask<W> thin = glass & parameters.thin_walled;
+  const vmask<W> straight = thin | (lanes & (parameters.pass_through > zero));
   vec3<W> refracted;
+  vec3<W> transmitted;
   vfloat<W> fresnel(0.0f);
-  if (any(glass)) {
-    const vfloat<W> raw_ior = parameters.ior;
-    // A non-positive or non-finite ior is treated as glTF's default 1.5.
-    const vfloat<W> ior = select(isfinite(raw_ior) & (raw_ior > zero), raw_ior, vfloat<W>(1.5f));
+  const vfloat<W> cos_i = clamp(dot(n, hit.wo), zero, one);
+  const vmask<W> solid = glass & !straight;
+  if (any(solid)) {
+    const vfloat<W> ior = usable_ior(parameters);
     const vfloat<W> eta = select(hit.front_face, one / ior, ior);
-    const vfloat<W> cos_i = clamp(dot(n, hit.wo), zero, one);
-    const vfloat<W> sin2_t = eta * eta * (one - cos_i * cos_i);
-    const vmask<W> total_internal = sin2_t >= one;
-    const vfloat<W> cos_t = sqrt(max(one - sin2_t, zero));
-    // Denominators vanish only when both cosines are 0 (grazing at the critical angle); the
-    // floor keeps the ratio finite there, where the limit is total reflection anyway.
-    const vfloat<W> tiny(1e-12f);
-    const vfloat<W> r_s = (eta * cos_i - cos_t) / max(eta * cos_i + cos_t, tiny);
-    const vfloat<W> r_p = (cos_i - eta * cos_t) / max(cos_i + eta * cos_t, tiny);
-    fresnel = select(total_internal, one, clamp(vfloat<W>(0.5f) * (r_s * r_s + r_p * r_p), zero, one));
+    vfloat<W> cos_t;
+    fresnel = dielectric_fresnel(cos_i, eta, cos_t);
     refracted = normalize(n * (eta * cos_i - cos_t) - hit.wo * eta);
+    const vfloat<W> weight = t * (one - fresnel);
+    transmitted = vec3<W>(weight, weight, weight);
   }
-  reflection.weight = keep(mirror + vec3<W>(glm::vec3(1.0f)) * (t * fresnel), lanes);
+  if (any(straight)) {
+    const vfloat<W> passed = clamp(parameters.pass_through, zero, one);
+    const vec3<W> straight_weight =
+        vec3<W>(passed, passed, passed) + (any(thin) ? thin_wall_transmittance(parameters, t, cos_i, fresnel, thin) : vec3<W>());
+    transmitted = select(straight, straight_weight, transmitted);
+    refracted = select(straight, -hit.wo, refracted);
+  }
+  reflection.weight = keep(mirror + vec3<W>(glm::vec3(1.0f)) * (t * keep(fresnel, glass)), lanes);
   reflection.direction = reflected;
   reflection.active = lanes & (max_component(reflection.weight) > zero);
 
-  const vfloat<W> transmitted = keep(t * (one - fresnel), glass);
-  refraction.weight = vec3<W>(transmitted, transmitted, transmitted);
+  refraction.weight = keep(transmitted, solid | straight);
   refraction.direction = refracted;
-  refraction.active = glass & (transmitted > zero) & (length_squared(refracted) > zero);
+  refraction.active = (solid | straight) & (max_component(refraction.weight) > zero) & (length_squared(refracted) > zero);
 
   reflection.direction = keep(reflection.direction, reflection.active);
   reflection.weight = keep(reflection.weight, reflection.active);
@@ -195,6 +252,29 @@ vmask<W> spawn_specular(const SurfaceHit<W>& hit, const BrdfParameters<W>& param
 }
 
 }  // namespace brdf_detail
+
+/// What passes the lanes of `mask` of a surface straight on along -wo, per channel:
+/// pass_through plus, where the transmission is thin-walled, thin_wall_transmittance at wo's
+/// angle to the shading normal (the same on both faces, and the same for light going either
+/// way); 0 on a solid surface, also where a cut-out is opaque. A transparent cut-out's lanes
+/// (not opaque) pass everything. What shadow rays and the path tracer's light rays multiply by
+/// at every see-through surface they cross.
+template <int W>
+vec3<W> straight_transmittance(const SurfaceHit<W>& hit, const BrdfParameters<W>& parameters, const vmask<W>& mask) noexcept {
+  const vfloat<W> zero(0.0f), one(1.0f);
+  const vmask<W> solid = mask & parameters.opaque;
+  const vfloat<W> passed = keep(clamp(parameters.pass_through, zero, one), solid);
+  vec3<W> result(passed, passed, passed);
+  const vfloat<W> t = brdf_detail::usable_transmission(parameters.transmission);
+  const vmask<W> thin = solid & parameters.thin_walled & (t > zero);
+  if (any(thin)) {
+    const vfloat<W> cos_i = clamp(dot(shading_frame_normal(hit, parameters), hit.wo), zero, one);
+    vfloat<W> fresnel(0.0f);
+    result += brdf_detail::thin_wall_transmittance(parameters, t, cos_i, fresnel, thin);
+  }
+  const vmask<W> cut = mask & !parameters.opaque;
+  return select(cut, vec3<W>(one, one, one), result);
+}
 
 /// Lambertian reflection: gathers irradiance, spawns nothing.
 class LambertBrdf {

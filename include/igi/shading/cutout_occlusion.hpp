@@ -4,6 +4,8 @@
 /// camera rays and the path tracer see the scene, where a cut-out (glTF alphaMode MASK) blocks
 /// light only where its surface shader finds it opaque. A backend's `occluded` knows nothing of
 /// materials and stops at any triangle, which made foliage and chains cast solid shadows.
+/// `shadow_transmittance` goes further for see-through surfaces (thin-walled glass, alpha
+/// blending): how much light of each colour gets through, window panes attenuating it.
 
 #include <concepts>
 #include <exception>
@@ -11,6 +13,7 @@
 
 #include "igi/backends/backend.hpp"
 #include "igi/scene/scene.hpp"
+#include "igi/shading/brdf_shaders.hpp"
 #include "igi/shading/constants.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 #include "igi/shading/surface_shader.hpp"
@@ -116,6 +119,64 @@ vmask<N> occluded_by_opaque(const B& backend, const Surface& surface, const Scen
   select(blocked, vfloat<N>(-std::numeric_limits<float>::infinity()), far).store(rays.tfar);
   select(mask, near, rays.near()).store(rays.tnear);
   return blocked;
+}
+
+/// Per channel, the light that gets through the segment [tnear, tfar] of `rays` on the lanes of
+/// `mask` (zero elsewhere): 0 where an opaque surface blocks it, else the product of
+/// straight_transmittance over the see-through surfaces on the way (thin-walled glass, alpha
+/// blending; `see_through` names their meshes) and 1 over the transparent parts of cut-outs.
+/// Deterministic, not a pass-or-stop chance: a window pane dims the sun by its transmittance in
+/// every pixel alike, without noise. The backend's occlusion query first finds the lanes
+/// nothing stops (1); those something stops are traced again hit by hit from their start
+/// (with `coherence`): an opaque mesh's hit ends the lane at 0, a cut-out's or see-through
+/// mesh's is shaded by `surface` and multiplies the lane's light by what passes, which goes on
+/// from just behind it (`ray_epsilon`), for up to max_cutout_layers hits (then 0). Without
+/// see-through meshes this is occluded_by_opaque's answer as 0 or 1. `rays` is left as it came.
+template <class B, class Surface, int N>
+vec3<N> shadow_transmittance(const B& backend, const Surface& surface, const Scene& scene, const SceneGeometry& geometry,
+                             const CutoutMeshes& cutouts, const SeeThroughMeshes& see_through, float ray_epsilon,
+                             RayPacket<N>& rays, Coherence coherence, const vmask<N>& mask) {
+  const vfloat<N> zero(0.0f), one(1.0f);
+  const vfloat<N> far = rays.far();
+  const vfloat<N> near = rays.near();
+  if (!see_through.any()) {
+    const vmask<N> blocked = occluded_by_opaque(backend, surface, scene, geometry, cutouts, ray_epsilon, rays, coherence, mask);
+    select(mask, far, rays.far()).store(rays.tfar);
+    const vfloat<N> passed = select(mask & !blocked, one, zero);
+    return {passed, passed, passed};
+  }
+  const vfloat<N> start = select(mask, one, zero);
+  vec3<N> light(start, start, start);
+  vmask<N> pending = backend.occluded(rays, coherence, mask);
+  select(pending, far, rays.far()).store(rays.tfar);
+  for (int layer = 0; layer < max_cutout_layers && any(pending); ++layer) {
+    HitPacket<N> hits;
+    hits.clear();
+    backend.intersect(rays, hits, coherence, pending);
+    vmask<N> crossed;  // lanes on a surface that may let light on
+    for (int lane = 0; lane < N; ++lane) {
+      if (!pending[lane]) continue;
+      if (hits.geomID[lane] == invalid_id) {
+        pending.set(lane, false);  // nothing more on the way: the lane keeps what got this far
+      } else if (cutouts.contains(hits.geomID[lane]) || see_through.contains(hits.geomID[lane])) {
+        crossed.set(lane, true);
+      } else {
+        pending.set(lane, false);  // an opaque mesh: no light
+        light.set(lane, glm::vec3(0.0f));
+      }
+    }
+    if (none(crossed)) break;
+    const SurfaceHit<N> hit = make_surface_hit(scene, geometry, rays, hits, crossed);
+    light = select(crossed, light * straight_transmittance(hit, surface.shade(hit, crossed), crossed), light);
+    // Lanes some light still passes go on from just behind the surface.
+    pending = crossed & (brdf_detail::max_component(light) > zero);
+    select(pending, rays.far() + vfloat<N>(ray_epsilon), rays.near()).store(rays.tnear);
+    select(pending, far, rays.far()).store(rays.tfar);
+  }
+  light = select(pending, vec3<N>(), light);  // more layers than max_cutout_layers: taken as blocked
+  select(mask, near, rays.near()).store(rays.tnear);
+  select(mask, far, rays.far()).store(rays.tfar);
+  return keep(light, mask);
 }
 
 }  // namespace igi

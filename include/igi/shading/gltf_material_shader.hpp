@@ -23,9 +23,12 @@
 ///   becomes a perfect mirror instead;
 /// - transmission t (KHR_materials_transmission) applies to the dielectric part, so the glass
 ///   weight is t x (1 - metallic), with the ior; diffuse + specular + glass weights then never
-///   exceed 1 per channel;
+///   exceed 1 per channel. Without KHR_materials_volume (thickness 0) it is thin-walled, as
+///   glTF defines it: light passes straight through, tinted by the base colour; with a
+///   thickness the mesh bounds a solid that refracts;
 /// - alphaMode MASK: opaque where alpha >= alphaCutoff, the alpha read at the ray's point at full
-///   resolution whatever its footprint; BLEND is rendered opaque;
+///   resolution whatever its footprint; BLEND: the surface does alpha's share of everything
+///   (reflection, transmission, emission) and passes 1 - alpha straight on (pass_through);
 /// - KHR_materials_clearcoat: a clear coat over all of it (add_clearcoat);
 /// - emission = emissiveFactor x strength x emissive texture, on front faces (both faces if
 ///   the material is double-sided), matching how the light sampler emits;
@@ -259,6 +262,20 @@ inline BrdfParameters<W> gltf_material_parameters(std::span<const TextureMips> m
     p.emission = select(emitting, emission, vec3<W>());
   }
   if (material.clearcoat > 0.0f) add_clearcoat(mips, material, hit, mask, mirror_roughness, p);
+  if (material.thin_walled()) {
+    p.thin_walled = mask;
+    p.transmission_tint = color;  // glTF tints transmitted light by the base colour
+  }
+  if (material.alpha_mode == AlphaMode::blend) {
+    // Compositing "over" what lies behind: alpha's share of everything the surface does, the rest passes on.
+    const vfloat<W> coverage = clamp(alpha, zero, one);
+    p.albedo *= coverage;
+    p.glossy *= coverage;
+    p.mirror *= coverage;
+    p.emission *= coverage;
+    p.transmission = p.transmission * coverage;
+    p.pass_through = one - coverage;
+  }
   p.opaque = material.alpha_mode != AlphaMode::mask ? mask : mask & (alpha >= vfloat<W>(material.alpha_cutoff));
   // A unit normal for the BRDF shader: the tilted one where it is usable, else the hit's.
   const vfloat<W> length2 = dot(normal, normal);

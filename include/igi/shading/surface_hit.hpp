@@ -67,6 +67,13 @@ struct BrdfParameters {
   vec3<W> normal;          ///< Unit shading normal after bump mapping.
   vec3<W> emission;        ///< Emitted radiance towards wo.
   vmask<W> opaque;         ///< False where an alpha-mask cut-out lets the ray pass through.
+  /// True where the transmission is thin-walled (glTF's, without a volume): light passes
+  /// straight through, tinted by transmission_tint; false where it refracts into a solid.
+  vmask<W> thin_walled;
+  vec3<W> transmission_tint;  ///< Colour thin-walled transmission is filtered by (the base colour); read only where thin_walled.
+  /// Fraction of light that passes on as if the surface were not there (1 - alpha of alphaMode
+  /// BLEND; the other parameters then carry alpha's share); 0 on a solid surface.
+  vfloat<W> pass_through;
 
   /// Takes every field of `from` in the lanes of `mask`, keeps this packet's elsewhere.
   void assign(const BrdfParameters& from, const vmask<W>& mask) noexcept {
@@ -79,6 +86,9 @@ struct BrdfParameters {
     normal.assign(from.normal, mask);
     emission.assign(from.emission, mask);
     opaque = (opaque & !mask) | (from.opaque & mask);
+    thin_walled = (thin_walled & !mask) | (from.thin_walled & mask);
+    transmission_tint.assign(from.transmission_tint, mask);
+    pass_through.assign(from.pass_through, mask);
   }
 };
 

@@ -50,6 +50,7 @@ inline const std::set<std::string, std::less<>>& supported_extensions() {
   static const std::set<std::string, std::less<>> names{
       "KHR_lights_punctual",     "KHR_materials_clearcoat", "KHR_materials_emissive_strength",
       "KHR_materials_ior",       "KHR_materials_specular",  "KHR_materials_transmission",
+      "KHR_materials_volume",
       "KHR_mesh_quantization",   "KHR_texture_transform"};
   return names;
 }
@@ -241,6 +242,28 @@ class Loader {
     warn_uv_set(material.specular_color_texture, color.uv_set, user, "specular colour");
   }
 
+  /// KHR_materials_volume's factors into `material` (thin-walled without it). A thickness
+  /// texture is not read (the factor alone says whether the mesh is a solid); a negative
+  /// thickness and a non-positive attenuation distance, which the extension forbids, are named
+  /// in a warning and left at their defaults.
+  void convert_volume(const tinygltf::ExtensionMap& extensions, const std::string& user, Material& material) const {
+    const char* extension = "KHR_materials_volume";
+    material.thickness = float(extension_number(extensions, extension, "thicknessFactor", 0.0));
+    if (material.thickness < 0.0f) {
+      warn(user + ": KHR_materials_volume thicknessFactor " + std::to_string(material.thickness) + " is negative; taken as 0");
+      material.thickness = 0.0f;
+    }
+    const double infinite = double(std::numeric_limits<float>::infinity());
+    material.attenuation_distance = float(extension_number(extensions, extension, "attenuationDistance", infinite));
+    if (!(material.attenuation_distance > 0.0f)) {
+      warn(user + ": KHR_materials_volume attenuationDistance is not positive; taken as infinite");
+      material.attenuation_distance = std::numeric_limits<float>::infinity();
+    }
+    material.attenuation_color = extension_color(extensions, extension, "attenuationColor", glm::vec3(1.0f), user);
+    if (extension_texture(extensions, extension, "thicknessTexture").index >= 0)
+      warn(user + ": KHR_materials_volume thicknessTexture is ignored; thicknessFactor alone says whether it is a solid");
+  }
+
   /// KHR_materials_clearcoat's factors and textures into `material` (no coat without it). The
   /// coat's own normal map is not read: the coat takes the base's normal (a warning says so).
   void convert_clearcoat(const tinygltf::ExtensionMap& extensions, const std::string& user, Material& material) {
@@ -300,6 +323,7 @@ class Loader {
       warn_uv_set(material.emissive_texture, uv_set, user, "emissive");
       material.transmission = float(extension_number(source.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
       material.ior = float(extension_number(source.extensions, "KHR_materials_ior", "ior", 1.5));  // glTF's default IOR
+      convert_volume(source.extensions, user, material);
       convert_specular(source.extensions, user, material);
       convert_clearcoat(source.extensions, user, material);
       if (source.alphaMode == "MASK") {
