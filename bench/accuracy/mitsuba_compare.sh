@@ -17,17 +17,8 @@ spp="${3:-256}"
 scene="$root/../shared/scenes/cornell/cornell_box.gltf"
 work="${MITSUBA_WORK:-$build/mitsuba_compare}"
 venv="$work/venv"
-mkdir -p "$work"
-
-if [ ! -x "$venv/bin/python" ]; then
-  python3 -m venv "$venv"
-  "$venv/bin/pip" install --quiet mitsuba numpy
-fi
-"$venv/bin/python" -c "import mitsuba; print('mitsuba', mitsuba.__version__)"
-
-path_render="$(find "$build" -name igi-path-render -type f -perm -u+x | head -n 1)"
-compare="$(find "$build" -name igi-compare -type f -perm -u+x | head -n 1)"
-[ -n "$path_render" ] && [ -n "$compare" ] || { echo "build igi-path-render and igi-compare in $build first" >&2; exit 1; }
+# shellcheck source=mitsuba_tools.sh
+source "$here/mitsuba_tools.sh"
 
 time "$venv/bin/python" "$here/mitsuba_compare.py" "$scene" "$work/mitsuba_" "$size" "$size" "$spp" 0 1
 for seed in 0 1; do

@@ -32,7 +32,7 @@ struct RenderOptions : SceneOptions {
   /// Packet width: by default one native register of floats (16 with AVX-512, 8 with AVX2, 4
   /// with SSE), where Embree has kernels of that width too. On an AVX2-only AMD EPYC, W = 8 took
   /// 0.91 of W = 16's time (two registers, Embree's 16-wide calls as halves) on Sponza_lit 640x480
-  /// at 12 VPLs (farm-bench, median of 5 paired whole runs) and 0.83 on Cornell (run_all's width table).
+  /// at 12 VPLs (median of 5 paired whole-process runs) and 0.83 on Cornell (run_all's width table).
   int packet = native_packet_width;
   int frames = 1;                       ///< Frames (or path-tracer passes).
   int spp = 16;                         ///< Path-tracer samples per pixel per pass.
