@@ -15,8 +15,9 @@
 // coordinates leaves the image as it was: what changes with K is only what the ray tracer has to
 // search. Emissive meshes are not cut (the light sources, and so the VPLs, stay the same).
 // Frames: 640x480, 16 VPLs per pixel, discontinuity filter, packet width 16, --threads threads.
-// Counters: triangles (rendered), unique_triangles, build_ms (Embree backend construction: all
-// BVHs), bvh_mb (resident memory the backend added, heap trimmed before and after), build_peak_mb (peak resident memory during
+// Counters: triangles (rendered), unique_triangles, instances, build_ms (Embree backend construction: all
+// BVHs), move_all_instances_ms (median set-up of five frames in which every instance moves: the
+// changes applied and committed), bvh_mb (resident memory the backend added, heap trimmed before and after), build_peak_mb (peak resident memory during
 // the build over the memory before it), scene_mb (the igi Scene itself), ms_per_frame and the rest
 // of report_frames.
 //
@@ -145,6 +146,24 @@ void size_benchmark(benchmark::State& state, const std::string& name, int n, int
   state.counters["build_peak_mb"] = (after.peak - before.resident) / megabyte;
   state.counters["scene_mb"] = scene_bytes(bench.scene) / megabyte;
   state.counters["process_peak_mb"] = memory_now().peak / megabyte;
+  // A frame of an animation that moves every instance (glTF node animations move instances):
+  // its set-up, the changes applied and the backend's commit, should grow with the instances and
+  // not with the triangles, since instances move in the two-level BVH's top level alone.
+  const std::vector<Instance> placed = bench.scene.instances;
+  const float step = 1e-3f * glm::length(bench.scene.bounds().extent());
+  std::vector<double> setup;
+  for (int f = 1; f <= 5; ++f) {
+    SceneChanges changes;
+    changes.camera = bench.camera;
+    for (std::size_t i = 0; i < placed.size(); ++i)
+      changes.instances.emplace_back(int(i), glm::translate(glm::mat4(1.0f), glm::vec3(step * float(f), 0.0f, 0.0f)) * placed[i].transform);
+    const auto apply_start = std::chrono::steady_clock::now();
+    renderer.apply(changes);
+    const double apply_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - apply_start).count();
+    setup.push_back(apply_ms + renderer.render(bench.camera, std::uint32_t(f)).statistics.commit_milliseconds);
+  }
+  state.counters["instances"] = double(placed.size());
+  state.counters["move_all_instances_ms"] = median(setup);
 }
 
 void register_all() {
