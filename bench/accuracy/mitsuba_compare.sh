@@ -25,13 +25,4 @@ for seed in 0 1; do
   time "$path_render" "$scene" -o "$work/igi_$seed.exr" --size "${size}x${size}" --spp "$spp" --seed "$seed"
 done
 
-echo "== igi vs mitsuba (seed 0 each, then seed 1 each)"
-"$compare" --json "$work/mitsuba_0.exr" "$work/igi_0.exr"
-"$compare" --json "$work/mitsuba_1.exr" "$work/igi_1.exr"
-echo "== mitsuba vs mitsuba (noise of two Mitsuba estimates)"
-"$compare" --json "$work/mitsuba_0.exr" "$work/mitsuba_1.exr"
-echo "== igi vs igi (noise of two igi estimates)"
-"$compare" --json "$work/igi_0.exr" "$work/igi_1.exr"
-echo "== means and low-pass (igi - mitsuba in units of its standard error; about 1 if they agree)"
-"$venv/bin/pip" show numpy > /dev/null 2>&1 || "$venv/bin/pip" install --quiet numpy
-"$venv/bin/python" "$here/mitsuba_stats.py" "$work"
+compare_seeds

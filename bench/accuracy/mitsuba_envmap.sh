@@ -30,15 +30,7 @@ for seed in 0 1; do
     --size "${width}x${height}" --spp "$spp" --seed "$seed"
 done
 
-echo "== igi vs mitsuba (seed 0 each, then seed 1 each)"
-"$compare" --json "$work/mitsuba_0.exr" "$work/igi_0.exr"
-"$compare" --json "$work/mitsuba_1.exr" "$work/igi_1.exr"
-echo "== mitsuba vs mitsuba (noise of two Mitsuba estimates)"
-"$compare" --json "$work/mitsuba_0.exr" "$work/mitsuba_1.exr"
-echo "== igi vs igi (noise of two igi estimates)"
-"$compare" --json "$work/igi_0.exr" "$work/igi_1.exr"
-echo "== means and low-pass (igi - mitsuba in units of its standard error; about 1 if they agree)"
-"$venv/bin/python" "$here/mitsuba_stats.py" "$work"
+compare_seeds
 
 echo "== orientation: Mitsuba with the sky turned 180 degrees about +Y, and mirrored (x -> -x), against igi seed 0"
 quick=$(( spp / 4 > 0 ? spp / 4 : 1 ))

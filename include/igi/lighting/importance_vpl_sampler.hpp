@@ -412,28 +412,23 @@ class ImportanceVplSampler {
   std::vector<ViewPoint> view_points(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer,
                                      const Shader& shader, const VplSettings& settings) const {
     const PinholeProjection& projection = settings.view->projection;
-    const float width = float(projection.width()), height = float(projection.height());
-    // A grid of about view_samples cells with the image's aspect, at least one cell each way.
-    const int columns = std::max(1, int(std::lround(std::sqrt(double(settings_.view_samples) * width / height))));
-    const int rows = std::max(1, int(std::lround(double(settings_.view_samples) / columns)));
     // An arbitrary salt that separates the view jitter from the walks and the acceptance.
     constexpr std::uint32_t jitter_salt = 0x6a697474u;
-    const std::uint32_t jitter = hash(hash(settings.seed, settings.frame), jitter_salt);
     const float offset = ray_offset(settings.scene_bounds);
     std::vector<ViewPoint> points;
-    for (int row = 0; row < rows; ++row)
-      for (int column = 0; column < columns; ++column) {
-        const std::uint32_t cell = hash(jitter, std::uint32_t(row * columns + column));
-        const float px = (float(column) + to_unit_float(hash(cell, 0u))) * width / float(columns);
-        const float py = (float(row) + to_unit_float(hash(cell, 1u))) * height / float(rows);
-        const glm::vec3 direction = projection.direction(px, py);
-        const std::optional<OpaqueHit> hit = first_opaque_hit(scene, geometry, tracer, shader, projection.origin(), direction, 0.0f, offset);
-        if (!hit) continue;
-        const glm::vec3 reflectance = glm::clamp(hit->parameters.albedo[0] + hit->parameters.glossy[0], glm::vec3(0.0f), glm::vec3(1.0f));
-        const float reflected = luminance(reflectance) * inv_pi;
-        if (reflected > 0.0f && std::isfinite(reflected))
-          points.push_back({.position = hit->surface.position[0], .normal = hit->surface.geometric_normal[0], .reflectance = reflected});
-      }
+    for_each_view_ray(projection, settings_.view_samples, hash(hash(settings.seed, settings.frame), jitter_salt),
+                      [&](std::uint32_t, const glm::vec3& direction) {
+                        const std::optional<OpaqueHit> hit =
+                            first_opaque_hit(scene, geometry, tracer, shader, projection.origin(), direction, 0.0f, offset);
+                        if (!hit) return;
+                        const glm::vec3 reflectance =
+                            glm::clamp(hit->parameters.albedo[0] + hit->parameters.glossy[0], glm::vec3(0.0f), glm::vec3(1.0f));
+                        const float reflected = luminance(reflectance) * inv_pi;
+                        if (reflected > 0.0f && std::isfinite(reflected))
+                          points.push_back({.position = hit->surface.position[0],
+                                            .normal = hit->surface.geometric_normal[0],
+                                            .reflectance = reflected});
+                      });
     return points;
   }
 

@@ -80,6 +80,23 @@ std::optional<OpaqueHit> first_opaque_hit(const Scene& scene, const SceneGeometr
   return std::nullopt;
 }
 
+/// Calls `visit(cell, direction)` for the camera rays of a grid of about `samples` cells with the
+/// image's aspect (at least one each way) over `projection`'s image, each through a point of its
+/// cell jittered by `cell` = hash(key, cell index), which the visitor may hash on for its own numbers.
+template <class Visit>
+void for_each_view_ray(const PinholeProjection& projection, int samples, std::uint32_t key, Visit&& visit) {
+  const float width = float(projection.width()), height = float(projection.height());
+  const int columns = std::max(1, int(std::lround(std::sqrt(double(samples) * width / height))));
+  const int rows = std::max(1, int(std::lround(double(samples) / columns)));
+  for (int row = 0; row < rows; ++row)
+    for (int column = 0; column < columns; ++column) {
+      const std::uint32_t cell = hash(key, std::uint32_t(row * columns + column));
+      const float px = (float(column) + to_unit_float(hash(cell, 0u))) * width / float(columns);
+      const float py = (float(row) + to_unit_float(hash(cell, 1u))) * height / float(rows);
+      visit(cell, projection.direction(px, py));
+    }
+}
+
 namespace portal_detail {
 
 /// At most `most` of `items`, evenly spaced (all if fewer).
@@ -109,12 +126,8 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
   if (!settings.view || !(share > 0.0f) || (!sky && !directional)) return portals;
 
   const PinholeProjection& projection = settings.view->projection;
-  const float width = float(projection.width()), height = float(projection.height());
-  const int columns = std::max(1, int(std::lround(std::sqrt(double(portal_view_samples) * width / height))));
-  const int rows = std::max(1, int(std::lround(double(portal_view_samples) / columns)));
   // An arbitrary salt that separates the portals' numbers from the walks' and the view points'.
   constexpr std::uint32_t portal_salt = 0x706f7274u;
-  const std::uint32_t key = hash(hash(settings.seed, settings.frame), portal_salt);
   const float offset = ray_offset(settings.scene_bounds);
   // The view points: the first opaque hit of each cell's camera ray, its normal turned towards
   // the camera (the side light reaches it from), and the cell's key for its sky rays.
@@ -123,18 +136,15 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
     std::uint32_t cell;
   };
   std::vector<Seen> seen;
-  for (int row = 0; row < rows; ++row)
-    for (int column = 0; column < columns; ++column) {
-      const std::uint32_t cell = hash(key, std::uint32_t(row * columns + column));
-      const float px = (float(column) + to_unit_float(hash(cell, 0u))) * width / float(columns);
-      const float py = (float(row) + to_unit_float(hash(cell, 1u))) * height / float(rows);
-      const glm::vec3 direction = projection.direction(px, py);
-      const std::optional<OpaqueHit> hit = first_opaque_hit(scene, geometry, tracer, shader, projection.origin(), direction, 0.0f, offset);
-      if (!hit) continue;
-      glm::vec3 normal = hit->surface.geometric_normal[0];
-      if (glm::dot(normal, direction) > 0.0f) normal = -normal;
-      seen.push_back({hit->surface.position[0], normal, cell});
-    }
+  for_each_view_ray(projection, portal_view_samples, hash(hash(settings.seed, settings.frame), portal_salt),
+                    [&](std::uint32_t cell, const glm::vec3& direction) {
+                      const std::optional<OpaqueHit> hit =
+                          first_opaque_hit(scene, geometry, tracer, shader, projection.origin(), direction, 0.0f, offset);
+                      if (!hit) return;
+                      glm::vec3 normal = hit->surface.geometric_normal[0];
+                      if (glm::dot(normal, direction) > 0.0f) normal = -normal;
+                      seen.push_back({hit->surface.position[0], normal, cell});
+                    });
   // Where light from far away reaches `points` (the view's, or those they see): each point's
   // rays towards the directional lights and `sky_rays` towards the sky that leave the scene.
   const auto add_openings = [&](const std::vector<Seen>& points, int sky_rays) {
