@@ -2,7 +2,8 @@
 // Rank 0 hands out tiles on demand and writes the image of the last frame (or of every frame);
 // ranks 1..N-1 render, filter and tone map tiles. Reports per frame: fps, bytes sent to rank 0 and
 // tiles per worker. Options are igi-render's (examples/common/render_options.hpp), plus
-// --animate, --every-frame, the scheduling knobs and the --slow-rank test hook.
+// --animate, --play and --camera-path (the file's own animation and a walkthrough, sampled on
+// rank 0 and broadcast as each frame's scene changes), --every-frame, the scheduling knobs and the --slow-rank test hook.
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -29,9 +30,9 @@ namespace {
 using namespace igi::programs;
 
 /// Everything the command line decides: igi-render's options and the farm's.
-struct Options : RenderOptions {
+struct Options : RenderOptions, PlayOptions {
   std::string animate = "none";  ///< Dynamic scene, if any.
-  bool every_frame = false;      ///< Write every frame, not only the last.
+  bool every_frame = false;      ///< Write every frame, not only the last (--play does too).
   igi::FarmOptions farm;         ///< Demand-driven scheduling knobs and the slow-rank test hook.
 };
 
@@ -48,6 +49,9 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
   const igi::Animation animation = igi::parse_animation(options.animate);
   const igi::Scene initial = scene;  // animations are functions of the initial scene
   const igi::Animator animator(initial, camera, animation);
+  // The file's animation samples the scene's own animation data, which applying changes leaves alone.
+  std::optional<Playback> playback;
+  if (options.plays_sequence()) playback.emplace(scene, options, chosen_camera_index(scene, options));
   using Renderer = igi::TileRenderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::programs::ProgramVplSampler, igi::FilterChoice>;
   Renderer renderer(scene, options.settings, surface, brdf, sampler, filter);
   igi::FarmOptions farm_options = options.farm;
@@ -57,14 +61,15 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
     farm.serve();
     return stop_requested() ? stopped("igi-cluster") : 0;
   }
-  // Checked in main() when --every-frame is given; without it the name may hold any '%'.
+  // Checked in main() when --every-frame, --play or --camera-path is given; without them the name may hold any '%'.
+  const bool sequence = options.every_frame || options.plays_sequence();
   const std::optional<FrameNames> names =
-      options.every_frame ? std::optional<FrameNames>(FrameNames(options.output, options.frames)) : std::nullopt;
+      sequence ? std::optional<FrameNames>(FrameNames(options.output, options.frames)) : std::nullopt;
   std::vector<StatsJson> frames;
   igi::Frame frame;
   for (int f = 0; f < options.frames; ++f) {
     const auto index = std::uint32_t(f);
-    frame = farm.render_frame(animator(index), index);
+    frame = farm.render_frame(playback ? (*playback)(f, camera) : animator(index), index);
     if (stop_requested()) {
       farm.shutdown();  // the workers return from serve() instead of waiting for the next frame
       return stopped("igi-cluster");
@@ -94,8 +99,13 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
   write_frame(options.output, frame);
   const int threads = options.settings.threads > 0 ? options.settings.threads : tbb::info::default_concurrency();
   if (options.stats == "json") {
+    StatsJson played;
+    if (playback && playback->player()) played.set("animation", playback->player()->animation().name);
+    if (playback) played.set("play_fps", options.fps);
+    if (!options.camera_path.empty()) played.set("camera_path", options.camera_path);
     run_statistics(scene, options, B::name(), B::width, options.animate)
         .update(sampling_statistics(options.settings, filter.chosen(), sampler.chosen()))
+        .update(played)
         .set("ranks", farm.size())
         .set("workers", farm.size() > 1 ? farm.size() - 1 : 1)
         .set("tiles", std::uint64_t(renderer.tiles().size()))
@@ -125,6 +135,7 @@ int main(int argc, char** argv) {
   CommandLine command_line{"igi-cluster", "igi-render's IGI pipeline as the paper's tile farm on MPI (mpirun -np N igi-cluster ...)"};
   add_render_options(command_line, options, "threads per rank (0: all cores)", "frames to render (indices 0..F-1)");
   add_animate_option(command_line, options.animate, "dynamic scene: a deterministic function of the frame index");
+  add_play_options(command_line, options);
   command_line.flag("--every-frame", options.every_frame,
                     "also write every frame, named as igi-render --animate names them (<stem>_NNNN<ext>, or a %04d pattern)");
   command_line.add("--tiles-per-request", options.farm.tiles_per_request, "tiles a worker asks for at once (0: its thread count)").range(0, 1 << 20).show_default();
@@ -143,6 +154,7 @@ int main(int argc, char** argv) {
       throw UsageError("--slow-rank " + std::to_string(options.farm.slow_rank) + ": there are only " +
                        std::to_string(mpi.size()) + " ranks");
     igi::parse_animation(options.animate);
+    check_play_options(options, options, options.animate);
     if (options.every_frame) static_cast<void>(FrameNames(options.output, options.frames));  // a malformed %d pattern fails here
   } catch (const std::exception& e) {
     say(e.what());
@@ -150,7 +162,8 @@ int main(int argc, char** argv) {
   }
   try {
     igi::Scene scene = load_scene(options);
-    const igi::Camera camera = choose_camera(scene, options);
+    igi::Camera camera = choose_camera(scene, options);
+    pose_for_play(scene, camera, options, chosen_camera_index(scene, options));
     return with_backend(options, [&]<class B>() { return run<B>(scene, camera, options, rank); });
   } catch (const std::exception& e) {
     // Every rank fails the same way on a bad scene; a rank alone failing must not leave others waiting.

@@ -1,8 +1,11 @@
 #pragma once
 // The command line igi-render and igi-cluster share: scene, camera, image, IGI settings and the
-// backend choice, made of the pieces of program_options.hpp, plus the camera choice, the backend
-// dispatch and the --stats json fields that follow it.
+// backend choice, made of the pieces of program_options.hpp, plus the camera choice, playing the
+// file's animation, the backend dispatch and the --stats json fields that follow it.
 
+#include <cmath>
+#include <limits>
+#include <optional>
 #include <string>
 
 #include "common/backend_choice.hpp"
@@ -14,7 +17,9 @@
 #include "igi/backends/saarcor/saarcor_backend.hpp"
 #include "igi/io/image_files.hpp"
 #include "igi/render/settings.hpp"
+#include "igi/scene/animation_sampling.hpp"
 #include "igi/scene/camera.hpp"
+#include "igi/scene/camera_path.hpp"
 #include "igi/simd/lanes.hpp"
 
 namespace igi::programs {
@@ -90,6 +95,122 @@ inline Camera choose_camera(const Scene& scene, const RenderOptions& o) {
     return *named;
   }
   return scene.cameras.empty() ? default_camera(scene) : scene.cameras.front();
+}
+
+/// Index into scene.cameras of the camera the options choose (-1: the default camera, no node).
+inline int chosen_camera_index(const Scene& scene, const RenderOptions& o) {
+  if (o.camera.empty()) return scene.cameras.empty() ? -1 : 0;
+  const Camera* named = find_camera(scene, o.camera);
+  return named != nullptr ? int(named - scene.cameras.data()) : -1;
+}
+
+/// What the options that play the file's own animation or a camera path decide.
+struct PlayOptions {
+  bool play = false;  ///< Render --frames frames of the file's animation, frame i at i / fps seconds.
+  double fps = 24.0;  ///< Frames per second of --play and --camera-path.
+  /// With --time: the one time (seconds) of the file's animation and camera path to render
+  /// (before their first key they hold their first pose); NaN without --time.
+  double time = std::numeric_limits<double>::quiet_NaN();
+  std::string animation = "0";  ///< The file's animation to play: its name or index.
+  bool loop = false;            ///< Time wraps around the animation's duration instead of holding its last pose.
+  std::string camera_path;      ///< A glTF file whose animated camera the frames follow (a walkthrough), or empty.
+
+  /// Whether the options render one moment of the animation or path (--time).
+  bool at_one_time() const { return !std::isnan(time); }
+  /// Whether the options render a sequence of moments: --play, or --camera-path without --time.
+  bool plays_sequence() const { return play || (!camera_path.empty() && !at_one_time()); }
+};
+
+/// Adds --play, --fps, --time, --animation, --loop and --camera-path to `command_line`.
+inline void add_play_options(CommandLine& command_line, PlayOptions& o) {
+  command_line.flag("--play", o.play,
+                    "render --frames frames of the file's own animation (glTF animations, skins, morph targets), frame i at "
+                    "time i / --fps, to an image sequence named as with --animate");
+  command_line.add("--fps", o.fps, "frames per second of --play and --camera-path").show_default();
+  command_line.add("--time", o.time, "render one frame of the file's animation (and camera path) at this time, in seconds");
+  command_line.add("--animation", o.animation, "the file's animation --play and --time play: its name or index").show_default();
+  command_line.flag("--loop", o.loop, "--play, --time and --camera-path wrap around the animation instead of holding its last pose");
+  command_line.add("--camera-path", o.camera_path,
+                   "a glTF file whose animated camera the view follows (a walkthrough: its first camera and first "
+                   "animation): --frames frames at --fps, or one at --time; with --play the scene's own animation plays too");
+}
+
+/// Checks what the option checks cannot: --play and --time against each other, --animate,
+/// --camera and the integrator, --fps, and the names of an image sequence.
+inline void check_play_options(const PlayOptions& o, const RenderOptions& render, const std::string& animate) {
+  if (!o.play && !o.at_one_time() && o.camera_path.empty()) return;
+  if (animate != "none") throw UsageError("--play, --time and --camera-path play files' animations: they exclude --animate");
+  if (o.play && o.at_one_time()) throw UsageError("--play renders a sequence and --time one frame: choose one");
+  if (!o.camera_path.empty() && !render.camera.empty())
+    throw UsageError("--camera-path gives the camera: it excludes --camera");
+  if (o.plays_sequence() && render.integrator != "igi")
+    throw UsageError("a sequence (--play, --camera-path) renders with --integrator igi only (the path tracer accumulates "
+                     "one still image; --time renders one moment with it)");
+  if (!(o.fps > 0.0) || !std::isfinite(o.fps)) throw UsageError("--fps must be a positive number");
+  if (o.plays_sequence()) static_cast<void>(FrameNames(render.output, render.frames));  // a malformed %d pattern fails here
+}
+
+/// A camera path the options name, as a UsageError if it cannot be followed.
+inline CameraPath open_camera_path(const PlayOptions& o) {
+  try {
+    return CameraPath(o.camera_path, "0", o.loop);
+  } catch (const SceneError& e) {
+    throw UsageError(std::string("--camera-path: ") + e.what());
+  }
+}
+
+/// What a sequence of frames plays: the file's own animation (--play) and a camera path.
+class Playback {
+ public:
+  /// Plays what `o` asks of `scene`, seen by the camera of scene.cameras[camera_index] (-1: one
+  /// of the program's own); throws UsageError naming a missing animation or a bad path.
+  Playback(const Scene& scene, const PlayOptions& o, int camera_index) : fps_(o.fps), camera_index_(camera_index) {
+    if (o.play) {
+      try {
+        player_.emplace(scene, find_animation(scene, o.animation), o.loop);
+      } catch (const SceneError& e) {
+        throw UsageError(e.what());
+      }
+    }
+    if (!o.camera_path.empty()) path_.emplace(open_camera_path(o));
+  }
+  /// The scene changes of frame `frame` (at frame / fps seconds) seen from `camera`, or from the
+  /// camera path; `times` receives what sampling the animation cost.
+  SceneChanges operator()(int frame, const Camera& camera, AnimationTimes* times = nullptr) const {
+    const double seconds = double(frame) / fps_;
+    SceneChanges changes;
+    changes.camera = camera;
+    if (player_) changes = (*player_)(seconds, camera, camera_index_, times);
+    if (path_) changes.camera = path_->at(seconds);
+    return changes;
+  }
+  /// The file's animation played, if any.
+  const AnimationPlayer* player() const noexcept { return player_ ? &*player_ : nullptr; }
+
+ private:
+  double fps_;                            ///< Frames per second.
+  int camera_index_;                      ///< The scene camera the animation may move (-1: none).
+  std::optional<AnimationPlayer> player_;  ///< The file's animation, with --play.
+  std::optional<CameraPath> path_;         ///< The camera path, with --camera-path.
+};
+
+/// With --time, poses `scene` and `camera` at that time: the file's animation (unless the scene
+/// has none and a camera path gives the motion) and the camera path; with --play, checks that the
+/// animation exists. A missing animation or bad path is a UsageError naming it.
+inline void pose_for_play(Scene& scene, Camera& camera, const PlayOptions& o, int camera_index) {
+  if (o.play) static_cast<void>(Playback(scene, o, camera_index));
+  if (!o.at_one_time()) return;
+  if (!scene.animations.empty() || o.camera_path.empty()) {
+    try {
+      const AnimationPlayer player(scene, find_animation(scene, o.animation), o.loop);
+      const SceneChanges changes = player(o.time, camera, camera_index);
+      changes.apply_to(scene);
+      camera = changes.camera;
+    } catch (const SceneError& e) {
+      throw UsageError(e.what());
+    }
+  }
+  if (!o.camera_path.empty()) camera = open_camera_path(o).at(o.time);
 }
 
 /// The backend types igi-render and igi-cluster run: every backend at every width it has.

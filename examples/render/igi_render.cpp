@@ -35,27 +35,10 @@ namespace {
 using namespace igi::programs;
 
 /// igi-render's own options beside the shared ones.
-struct Options : RenderOptions {
+struct Options : RenderOptions, PlayOptions {
   std::string animate = "none";  ///< What moves from frame to frame (none: a still scene).
   bool profile = false;          ///< Time each pipeline stage (stats: stage_cpu_ms).
-  bool play = false;             ///< Render --frames frames of the file's animation, frame i at i / fps seconds.
-  double fps = 24.0;             ///< Frames per second of --play.
-  /// With --time: the one time (seconds) of the file's animation to render (before its first key
-  /// it holds its first pose); NaN without --time.
-  double time = std::numeric_limits<double>::quiet_NaN();
-  std::string animation = "0";   ///< The file's animation to play: its name or index.
-  bool loop = false;             ///< Time wraps around the animation's duration instead of holding its last pose.
 };
-
-/// Whether the options play the file's own animation (--play or --time).
-bool plays_file_animation(const Options& options) { return options.play || !std::isnan(options.time); }
-
-/// Index into scene.cameras of the camera the options choose (-1: the default camera, no node).
-int chosen_camera_index(const igi::Scene& scene, const Options& options) {
-  if (options.camera.empty()) return scene.cameras.empty() ? -1 : 0;
-  const igi::Camera* named = igi::find_camera(scene, options.camera);
-  return named != nullptr ? int(named - scene.cameras.data()) : -1;
-}
 
 /// CPU milliseconds of each pipeline stage of one frame, for the stats JSON.
 StatsJson stage_milliseconds(const igi::StageTimes& times) {
@@ -111,13 +94,12 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
       scene, options.settings, surface, brdf, sampler, filter);
   renderer.set_profiling(options.profile);
   const igi::Animation animation = igi::parse_animation(options.animate);
-  const bool sequence = animation != igi::Animation::none || options.play;
+  const bool sequence = animation != igi::Animation::none || options.plays_sequence();
   const igi::Scene initial = animation != igi::Animation::none ? scene : igi::Scene{};  // animations are functions of the initial scene
   const igi::Animator animator(initial, camera, animation);
   // The file's animation samples the scene's own animation data, which applying changes leaves alone.
-  std::optional<igi::AnimationPlayer> player;
-  if (options.play) player.emplace(scene, igi::find_animation(scene, options.animation), options.loop);
-  const int camera_index = chosen_camera_index(scene, options);
+  std::optional<Playback> playback;
+  if (options.plays_sequence()) playback.emplace(scene, options, chosen_camera_index(scene, options));
   const FrameNames names(options.output, options.frames);
   std::vector<double> milliseconds, sampling, deforming, applying, bvh_update;
   igi::Frame frame;
@@ -126,8 +108,8 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
     const auto index = std::uint32_t(f);
     igi::Camera view = camera;
     igi::AnimationTimes times;
-    if (player) {
-      const igi::SceneChanges changes = (*player)(double(f) / options.fps, camera, camera_index, &times);
+    if (playback) {
+      const igi::SceneChanges changes = (*playback)(f, camera, &times);
       const auto apply_start = std::chrono::steady_clock::now();
       view = renderer.apply(changes);
       applying.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - apply_start).count());
@@ -166,9 +148,10 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
         .set("skinning_ms", median(deforming))
         .set("scene_update_ms", median(applying))
         .set("bvh_update_ms", median(bvh_update))
-        .set("animation", options.play ? player->animation().name : options.animation)
+        .set("animation", playback->player()->animation().name)
         .set("play_fps", options.fps);
   }
+  if (!options.camera_path.empty()) extra.set("camera_path", options.camera_path);
   if (options.profile)
     extra.set("stage_cpu_ms", stage_milliseconds(frame.statistics.stages));
   else
@@ -252,14 +235,7 @@ int main(int argc, char** argv) {
                      "out_0001.png, ...; -o frames/%04d.png numbers them printf-style. light: the lights circle, "
                      "object: the smallest object slides, camera: the view orbits the scene");
   add_temporal_option(command_line, options.settings);
-  command_line.flag("--play", options.play,
-                    "render --frames frames of the file's own animation (glTF animations, skins, morph targets), frame i at "
-                    "time i / --fps, to an image sequence named as with --animate");
-  command_line.add("--fps", options.fps, "frames per second of --play").show_default();
-  command_line.add("--time", options.time, "render one frame of the file's animation at this time, in seconds");
-  command_line.add("--animation", options.animation, "the file's animation --play and --time play: its name or index")
-      .show_default();
-  command_line.flag("--loop", options.loop, "--play and --time wrap around the animation instead of holding its last pose");
+  add_play_options(command_line, options);
   command_line.flag("--profile", options.profile,
                     "time each pipeline stage; --stats json then reports the last frame's CPU ms per stage as "
                     "stage_cpu_ms (the clock reads make the frames 2-9% slower)");
@@ -273,14 +249,7 @@ int main(int argc, char** argv) {
         throw UsageError("--animate renders with --integrator igi only (the path tracer accumulates one still image)");
       static_cast<void>(FrameNames(options.output, options.frames));  // a malformed %d pattern fails here, before any rendering
     }
-    if (plays_file_animation(options)) {
-      if (options.animate != "none") throw UsageError("--play and --time play the file's animation: they exclude --animate");
-      if (options.play && !std::isnan(options.time)) throw UsageError("--play renders a sequence and --time one frame: choose one");
-      if (options.play && options.integrator != "igi")
-        throw UsageError("--play renders with --integrator igi only (the path tracer accumulates one still image)");
-      if (!(options.fps > 0.0) || !std::isfinite(options.fps)) throw UsageError("--fps must be a positive number");
-      if (options.play) static_cast<void>(FrameNames(options.output, options.frames));
-    }
+    check_play_options(options, options, options.animate);
   } catch (const std::exception& e) {
     std::cerr << "igi-render: " << e.what() << "\n";
     return 2;
@@ -288,23 +257,7 @@ int main(int argc, char** argv) {
   try {
     igi::Scene scene = load_scene(options);
     igi::Camera camera = choose_camera(scene, options);
-    if (!std::isnan(options.time)) {
-      // One frame at one time: the scene is posed before any backend is built, so every integrator renders it.
-      try {
-        const igi::AnimationPlayer player(scene, igi::find_animation(scene, options.animation), options.loop);
-        const igi::SceneChanges changes = player(options.time, camera, chosen_camera_index(scene, options));
-        changes.apply_to(scene);
-        camera = changes.camera;
-      } catch (const igi::SceneError& e) {
-        throw UsageError(e.what());
-      }
-    } else if (options.play) {
-      try {
-        static_cast<void>(igi::AnimationPlayer(scene, igi::find_animation(scene, options.animation), options.loop));
-      } catch (const igi::SceneError& e) {
-        throw UsageError(e.what());
-      }
-    }
+    pose_for_play(scene, camera, options, chosen_camera_index(scene, options));
     try {
       igi::animate(scene, camera, igi::parse_animation(options.animate), 1);  // can this scene move that way?
     } catch (const igi::SettingsError& e) {

@@ -257,3 +257,23 @@ TEST_CASE("bad numbers: runtime updates placing a vertex beyond 1e12 are refused
     CHECK(after.hdr.pixels == before.hdr.pixels);  // the refused updates reached neither the scene nor the backend
   });
 }
+
+TEST_CASE("bad numbers: a move is checked by its mesh's box, and by the vertices only where the box reaches the limit", "[robustness]") {
+  // Three vertices 0.9e12 from the origin along the axes: their box's far corner (0.9e12 each
+  // way) turned onto the x axis lies 1.56e12 out, beyond the limit, while every vertex stays
+  // 0.9e12 out. The box alone would refuse this move; the vertices decide.
+  const float reach = 0.9e12f;
+  const std::vector<glm::vec3> vertices = {{reach, 0.0f, 0.0f}, {0.0f, reach, 0.0f}, {0.0f, 0.0f, reach}};
+  const Bounds box = bounds_of(vertices);
+  const glm::vec3 diagonal = glm::normalize(glm::vec3(1.0f));
+  const glm::vec3 axis = glm::normalize(glm::cross(diagonal, glm::vec3(1.0f, 0.0f, 0.0f)));
+  const glm::mat4 turned = glm::rotate(glm::mat4(1.0f), std::acos(diagonal.x), axis);
+  REQUIRE(placed(box, turned).upper.x > max_scene_coordinate);
+  CHECK_NOTHROW(check_extent(turned, box, vertices, "turned", "tripod", "test"));
+  // A translation past the limit is refused at once by the box, naming the first vertex beyond it.
+  const glm::mat4 shifted = glm::translate(glm::mat4(1.0f), glm::vec3(0.5e12f, 0.0f, 0.0f));
+  CHECK_THROWS_WITH(check_extent(shifted, box, vertices, "shifted", "tripod", "test"),
+                    Contains("instance 'shifted'") && Contains("vertex 0") && Contains("beyond +-1e12"));
+  // The box within the limit: accepted without a look at the vertices (an empty list shows it).
+  CHECK_NOTHROW(check_extent(glm::mat4(1.0f), box, {}, "still", "tripod", "test"));
+}

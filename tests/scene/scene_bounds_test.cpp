@@ -1,6 +1,7 @@
-// SceneBounds keeps Scene::bounds() per instance: bit for bit the same box after any sequence of
-// moves and mesh changes, so frames that take their clamp distance and ray offsets from it stay
-// identical while the per-frame cost no longer grows with the triangle count.
+// SceneBounds keeps Scene::bounds() per mesh and instance: bit for bit the same box after any
+// sequence of moves and mesh changes, so frames that take their clamp distance and ray offsets
+// from it stay identical while a moved instance costs the same whatever its triangle count. The
+// placed boxes they are made of hold every vertex, and are exact where nothing rotates.
 
 #include <catch2/catch.hpp>
 
@@ -51,6 +52,17 @@ TEST_CASE("scene bounds: the same box as Scene::bounds(), bit for bit, through m
     INFO("copy moved to " << shift.x << ", " << shift.y << ", " << shift.z);
     CHECK(same_bits(bounds.bounds(), scene.bounds()));
   }
+  // Turned and moved far out, then several moves before the box is asked for again.
+  scene.instances[copy].transform = glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(-30.0f, 0.0f, 3.0f)), 0.7f,
+                                                glm::vec3(0.3f, 1.0f, 0.2f));
+  bounds.instance_moved(scene, int(copy));
+  CHECK(same_bits(bounds.bounds(), scene.bounds()));
+  CHECK(bounds.bounds().lower.x < -29.0f);
+  scene.instances[0].transform = glm::scale(glm::mat4(1.0f), glm::vec3(1.5f));
+  bounds.instance_moved(scene, 0);
+  scene.instances[copy].transform = glm::mat4(1.0f);
+  bounds.instance_moved(scene, int(copy));
+  CHECK(same_bits(bounds.bounds(), scene.bounds()));
   // The moved copy far outside: the box grows; back inside: it shrinks again.
   scene.instances[copy].transform = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 40.0f, 0.0f));
   bounds.instance_moved(scene, int(copy));
@@ -62,6 +74,41 @@ TEST_CASE("scene bounds: the same box as Scene::bounds(), bit for bit, through m
   for (glm::vec3& p : shared.positions) p = 2.0f * p - glm::vec3(1.0f);
   bounds.mesh_changed(scene, scene.instances[copy].mesh);
   CHECK(same_bits(bounds.bounds(), scene.bounds()));
+}
+
+TEST_CASE("placed boxes: every vertex inside; exact, bit for bit, under translations and scales of either sign", "[scene]") {
+  const igi::Scene cornell = igi::cornell_box();
+  const igi::Mesh& block = cornell.meshes[std::size_t(cornell.instances.back().mesh)];
+  const igi::Bounds box = igi::mesh_bounds(block);
+  REQUIRE_FALSE(box.empty());
+  /// The box of the transformed vertices themselves, the definition the placed box stands for.
+  const auto walked = [&](const glm::mat4& transform) {
+    igi::Bounds world;
+    for (const glm::vec3& p : block.positions) world.extend(glm::vec3(transform * glm::vec4(p, 1.0f)));
+    return world;
+  };
+  const glm::mat4 moved = glm::translate(glm::mat4(1.0f), glm::vec3(0.37f, -12.5f, 1e3f));
+  for (const glm::mat4& transform : {glm::mat4(1.0f), moved, glm::scale(moved, glm::vec3(2.5f, 0.3f, 7.0f)),
+                                     glm::scale(moved, glm::vec3(-1.0f, 1.0f, -3.1f))}) {
+    CHECK(same_bits(igi::placed(box, transform), walked(transform)));
+  }
+  // Under a rotation the placed box holds the walked one and is no more than the box of the rotated box.
+  const glm::mat4 turned = glm::rotate(moved, 0.9f, glm::vec3(1.0f, 2.0f, -0.5f));
+  const igi::Bounds loose = igi::placed(box, turned);
+  const igi::Bounds tight = walked(turned);
+  for (int axis = 0; axis < 3; ++axis) {
+    CHECK(loose.lower[axis] <= tight.lower[axis]);
+    CHECK(loose.upper[axis] >= tight.upper[axis]);
+  }
+  // and no more than the cube around the sphere through the box's corners (a rotation keeps
+  // their distance from the centre; 1e-4 of it is float rounding in the transform).
+  const glm::vec3 center(turned * glm::vec4(box.center(), 1.0f));
+  const float radius = 0.5f * glm::length(box.extent()) * (1.0f + 1e-4f);
+  for (int axis = 0; axis < 3; ++axis) {
+    CHECK(loose.lower[axis] >= center[axis] - radius);
+    CHECK(loose.upper[axis] <= center[axis] + radius);
+  }
+  CHECK(igi::placed(igi::Bounds{}, turned).empty());
 }
 
 TEST_CASE("scene bounds: an empty scene has empty bounds, and a changed instance count is refused", "[scene]") {

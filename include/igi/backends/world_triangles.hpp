@@ -84,8 +84,16 @@ inline void check_positions(const Mesh& mesh, std::span<const glm::vec3> positio
 
 /// Throws std::invalid_argument naming `backend` if `transform` places a vertex of `positions`
 /// beyond +-max_scene_coordinate: the limit validate_scene sets, kept by every runtime update.
-inline void check_extent(const glm::mat4& transform, std::span<const glm::vec3> positions, std::string_view instance,
-                         std::string_view mesh, const char* backend) {
+/// `box` bounds `positions`: if its placed corners are within the limit every vertex is (each
+/// transformed coordinate, rounding included, is monotonic in each object-space coordinate), so
+/// a move costs O(1) whatever the mesh's size; only a box beyond the limit walks the vertices.
+inline void check_extent(const glm::mat4& transform, const Bounds& box, std::span<const glm::vec3> positions,
+                         std::string_view instance, std::string_view mesh, const char* backend) {
+  const Bounds world = placed(box, transform);
+  const glm::vec3 limit(max_scene_coordinate);
+  if (world.empty() || (glm::all(glm::lessThanEqual(glm::abs(world.lower), limit)) &&
+                        glm::all(glm::lessThanEqual(glm::abs(world.upper), limit))))
+    return;
   if (const auto vertex = first_vertex_beyond_limit(transform, positions))
     throw std::invalid_argument(std::string(backend) + ": " +
                                 beyond_limit_message(transform, positions, *vertex, instance, mesh));
@@ -140,6 +148,7 @@ class FlattenedGeometry {
       copy.positions = mesh.positions;
       copy.triangles = mesh.triangles;
       geometry_.meshes.push_back(std::move(copy));
+      boxes_.push_back(mesh_bounds(mesh));
     }
     geometry_.instances = scene.instances;
   }
@@ -149,7 +158,7 @@ class FlattenedGeometry {
     check_transform(transform, backend_);
     Instance& instance = geometry_.instances[std::size_t(index)];
     const Mesh& mesh = geometry_.meshes[std::size_t(instance.mesh)];
-    check_extent(transform, mesh.positions, instance.name, mesh.name, backend_);
+    check_extent(transform, boxes_[std::size_t(instance.mesh)], mesh.positions, instance.name, mesh.name, backend_);
     instance.transform = transform;
   }
   /// Replaces the vertex positions of mesh `index` (same count).
@@ -157,16 +166,19 @@ class FlattenedGeometry {
     check_index(index, geometry_.meshes.size(), backend_, "mesh");
     Mesh& mesh = geometry_.meshes[std::size_t(index)];
     check_positions(mesh, positions, backend_);
+    const Bounds box = bounds_of(positions);
     for (const Instance& instance : geometry_.instances)
-      if (instance.mesh == index) check_extent(instance.transform, positions, instance.name, mesh.name, backend_);
+      if (instance.mesh == index) check_extent(instance.transform, box, positions, instance.name, mesh.name, backend_);
     mesh.positions.assign(positions.begin(), positions.end());
+    boxes_[std::size_t(index)] = box;
   }
   /// The current triangles in world space.
   std::vector<WorldTriangle> triangles() const { return world_triangles(geometry_); }
 
  private:
-  Scene geometry_;       ///< Meshes (positions, triangles) and instances only.
-  const char* backend_;  ///< Name in messages.
+  Scene geometry_;             ///< Meshes (positions, triangles) and instances only.
+  std::vector<Bounds> boxes_;  ///< Each mesh's object-space bounds, for O(1) checks of a move.
+  const char* backend_;        ///< Name in messages.
 };
 
 /// One ray, read from lane `lane` of a packet.

@@ -133,7 +133,7 @@ class EmbreeScene {
     check_transform(transform, "igi::EmbreeBackend");
     const InstanceEntry& instance = state_.instances[std::size_t(index)];
     const MeshEntry& mesh = state_.meshes[instance.mesh];
-    check_extent(transform, std::span(mesh.positions).first(mesh.vertex_count), instance.name, mesh.name,
+    check_extent(transform, mesh.box, std::span(mesh.positions).first(mesh.vertex_count), instance.name, mesh.name,
                  "igi::EmbreeBackend");
     state_.pending_transforms.emplace_back(index, transform);
     state_.top_dirty = true;
@@ -151,10 +151,12 @@ class EmbreeScene {
     probe.name = mesh.name;
     probe.positions.resize(mesh.vertex_count);
     check_positions(probe, positions, "igi::EmbreeBackend");
+    const Bounds box = bounds_of(positions);
     for (std::size_t i = 0; i < state_.instances.size(); ++i)
       if (state_.instances[i].mesh == std::size_t(index))
-        check_extent(latest_transform(i), positions, state_.instances[i].name, mesh.name, "igi::EmbreeBackend");
+        check_extent(latest_transform(i), box, positions, state_.instances[i].name, mesh.name, "igi::EmbreeBackend");
     std::copy(positions.begin(), positions.end(), mesh.positions.begin());
+    mesh.box = box;
     mesh.changed = true;
     state_.top_dirty = true;
     if (mesh.geometry == nullptr) return;  // No triangles or no mesh scene yet: nothing to refit.
@@ -253,6 +255,7 @@ class EmbreeScene {
     std::vector<glm::vec3> positions; ///< Object-space vertices, one padding vertex at the end (Embree reads 16 bytes per vertex).
     std::vector<glm::uvec3> triangles;  ///< Vertex indices, shared by the mesh scene and every flattened copy.
     std::size_t vertex_count = 0;     ///< Vertices (without the padding).
+    Bounds box;                       ///< Object-space bounds of the vertices, for O(1) checks of a move.
     RTCScene scene = nullptr;         ///< Scene holding only this mesh (built on first use).
     RTCGeometry geometry = nullptr;   ///< Its triangle geometry (null for a mesh without triangles).
     bool dirty = false;               ///< Its scene needs a commit at commit().
@@ -361,6 +364,7 @@ class EmbreeScene {
     mesh.vertex_count = source.positions.size();
     mesh.positions.reserve(source.positions.size() + 1);
     mesh.positions.assign(source.positions.begin(), source.positions.end());
+    mesh.box = mesh_bounds(source);
     mesh.positions.emplace_back(0.0f);
     mesh.triangles = source.triangles;
   }
