@@ -76,7 +76,7 @@ TEST_CASE("scene bounds: the same box as Scene::bounds(), bit for bit, through m
   CHECK(same_bits(bounds.bounds(), scene.bounds()));
 }
 
-TEST_CASE("placed boxes: every vertex inside; exact, bit for bit, under translations and scales of either sign", "[scene]") {
+TEST_CASE("placed boxes: every vertex inside, and exact bit for bit under translations and scales of either sign", "[scene]") {
   const igi::Scene cornell = igi::cornell_box();
   const igi::Mesh& block = cornell.meshes[std::size_t(cornell.instances.back().mesh)];
   const igi::Bounds box = igi::mesh_bounds(block);
