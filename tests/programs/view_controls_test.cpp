@@ -38,7 +38,7 @@ TEST_CASE("orbit camera starts where the scene camera is and looks where it look
   CHECK(glm::length(orbit.target() - orbit.eye()) == Approx(1.0f));
 }
 
-TEST_CASE("orbiting keeps the target and distance; a full turn comes back") {
+TEST_CASE("orbiting keeps the target and distance, a full turn comes back") {
   igi_view::OrbitCamera orbit(igi::cornell_box().cameras.front(), 0.8f);
   const glm::vec3 target = orbit.target(), eye = orbit.eye();
   orbit.orbit(0.7f, 0.3f);
@@ -49,7 +49,7 @@ TEST_CASE("orbiting keeps the target and distance; a full turn comes back") {
   CHECK(glm::length(orbit.eye() - eye) < position_tolerance);
 }
 
-TEST_CASE("flying moves eye and target together; pitch stops short of the pole") {
+TEST_CASE("flying moves eye and target together, pitch stops short of the pole") {
   igi_view::OrbitCamera orbit(igi::cornell_box().cameras.front(), 0.8f);
   const glm::vec3 eye = orbit.eye(), forward = orbit.forward(), right = orbit.right();
   orbit.fly(0.1f, 0.2f, 0.05f);

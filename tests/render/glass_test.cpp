@@ -268,7 +268,7 @@ TEST_CASE("glass: a see-through surface that light fully passes renders bit for 
   CHECK(unused_frame.hdr.pixels == open_frame.hdr.pixels);
 }
 
-TEMPLATE_TEST_CASE("glass: glass with a volume (thickness) still refracts by Snell's law; without one it passes light "
+TEMPLATE_TEST_CASE("glass: glass with a volume (thickness) still refracts by Snell's law, without one it passes light "
                    "straight on", "[render][glass]", OneLane, EightLanes) {
   constexpr int W = TestType::value;
   Scene scene;
@@ -313,7 +313,7 @@ TEMPLATE_TEST_CASE("glass: glass with a volume (thickness) still refracts by Sne
   }
 }
 
-TEST_CASE("glass: a solid glass block with a volume displaces the floor seen through it; a thin one does not",
+TEST_CASE("glass: a solid glass block with a volume displaces the floor seen through it, a thin one does not",
           "[render][glass]") {
   // A ray at 45 degrees through a glass slab 0.2 thick (ior 1.5) on a floor: refracted
   // at both faces, it comes out parallel but shifted, and meets the floor elsewhere.

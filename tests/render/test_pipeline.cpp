@@ -236,7 +236,7 @@ TEST_CASE("no NaN or Inf (shared scene stanford-bunny.glb)", "[render][robustnes
   check_finite_frame("bunny/stanford-bunny.glb");
 }
 
-TEST_CASE("moving a light changes the image; moving it back restores it bit for bit", "[render][dynamic]") {
+TEST_CASE("moving a light changes the image, moving it back restores it bit for bit", "[render][dynamic]") {
   Scene scene = cornell_box();
   int light_instance = -1;
   for (std::size_t i = 0; i < scene.instances.size(); ++i)

@@ -123,7 +123,7 @@ TEST_CASE("bad numbers: a scene of 1e30 extent has no default camera, with an er
   CHECK_THROWS_WITH(default_camera(scene), Contains("non-finite bounds"));
 }
 
-TEST_CASE("bad numbers: zero-length vertex normals fall back to the face normal; pixels stay finite", "[robustness]") {
+TEST_CASE("bad numbers: zero-length vertex normals fall back to the face normal, pixels stay finite", "[robustness]") {
   Scene scene = cornell_box();
   Scene reference = scene;
   for (Mesh& mesh : scene.meshes) mesh.normals.assign(mesh.positions.size(), glm::vec3(0.0f));

@@ -96,7 +96,7 @@ TEST_CASE("find_camera by name", "[scene][camera]") {
   CHECK(igi::find_camera(scene, "missing") == nullptr);
 }
 
-TEST_CASE("PinholeProjection: centre, edges and corners match the field of view; y grows downwards", "[scene][camera]") {
+TEST_CASE("PinholeProjection: centre, edges and corners match the field of view, y grows downwards", "[scene][camera]") {
   const igi::Camera camera = igi::cornell_box().cameras[0];
   // The camera says aspect 1; the image is 2:1, and pixels stay square: the vertical field of
   // view spans the height, the horizontal one is twice as wide in tangent.

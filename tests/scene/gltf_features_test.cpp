@@ -158,7 +158,7 @@ TEST_CASE("glTF attribute component types: normalized and integer texcoords, nor
   CHECK(mesh.uvs1[1].y == Approx(0.2f));  // 13107 / 65535
 }
 
-TEST_CASE("glTF TANGENT: float and normalized short tangents, w reduced to its sign; unusable ones warn, wrong counts "
+TEST_CASE("glTF TANGENT: float and normalized short tangents, w reduced to its sign, unusable ones warn, wrong counts "
           "fail", "[scene][gltf][normal-map]") {
   const auto scene_with = [](bool quantized, int tangent_count, std::string& warnings) {
     GltfBuilder b;
@@ -269,7 +269,7 @@ TEST_CASE("glTF triangle strips and fans keep one consistent winding", "[scene][
   for (std::size_t t = 0; t < 3; ++t) CHECK(near(face_normal(fan_mesh, t), {0, 0, 1}));
 }
 
-TEST_CASE("glTF points and lines are skipped with a warning; triangles of the same mesh stay", "[scene][gltf]") {
+TEST_CASE("glTF points and lines are skipped with a warning, triangles of the same mesh stay", "[scene][gltf]") {
   GltfBuilder b;
   const int position = b.add_positions({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
   b.add_mesh("mixed", json::array({{{"attributes", {{"POSITION", position}}}, {"mode", 0}},
@@ -375,7 +375,7 @@ TEST_CASE("glTF metallic-roughness textures are linear: an image also used as ba
   CHECK(scene.materials[1].base_color_texture == -1);
 }
 
-TEST_CASE("glTF normal textures: linear, with their scale; other sets and lost images warn", "[scene][gltf]") {
+TEST_CASE("glTF normal textures: linear, with their scale, other sets and lost images warn", "[scene][gltf]") {
   const auto dir = scratch_dir("normal_textures");
   const std::vector<std::uint8_t> texels{128, 128, 255, 255};
   REQUIRE(stbi_write_png((dir / "bumps.png").string().c_str(), 1, 1, 4, texels.data(), 4) != 0);
@@ -521,7 +521,7 @@ TEST_CASE("glTF materials: factors, emissive strength, transmission, ior, alpha 
   CHECK(defaults.specular_color_texture == -1);
 }
 
-TEST_CASE("glTF KHR_materials_specular: factors, textures (alpha linear, colour sRGB) with their transforms; bad "
+TEST_CASE("glTF KHR_materials_specular: factors, textures (alpha linear, colour sRGB) with their transforms, bad "
           "fields warn", "[scene][gltf][specular]") {
   const auto dir = scratch_dir("materials_specular");
   const std::vector<std::uint8_t> texels{255, 188, 64, 128};
@@ -573,7 +573,7 @@ TEST_CASE("glTF KHR_materials_specular: factors, textures (alpha linear, colour 
 }
 
 TEST_CASE("glTF KHR_materials_clearcoat: factors and textures (linear: red weighs the coat, green its roughness) with "
-          "their transforms; the coat's normal map warns", "[scene][gltf][clearcoat]") {
+          "their transforms, the coat's normal map warns", "[scene][gltf][clearcoat]") {
   const auto dir = scratch_dir("materials_clearcoat");
   const std::vector<std::uint8_t> texels{200, 100, 50, 255};
   REQUIRE(stbi_write_png((dir / "coat.png").string().c_str(), 1, 1, 4, texels.data(), 4) != 0);
@@ -720,7 +720,7 @@ TEST_CASE("glTF .glb images stored in a bufferView are decoded", "[scene][gltf]"
   CHECK(scene.textures[0].name == "embedded");
 }
 
-TEST_CASE("glTF files without scenes use every root node; loading is deterministic", "[scene][gltf]") {
+TEST_CASE("glTF files without scenes use every root node, loading is deterministic", "[scene][gltf]") {
   GltfBuilder b;
   const int quad = b.add_quad_node("quad");
   const int child = b.add_node({{"name", "child"}, {"mesh", 0}, {"translation", {0, 0, 1}}});

@@ -65,7 +65,7 @@ TEST_CASE("glTF KHR_materials_volume: thickness and attenuation are read, and a 
 }
 
 TEST_CASE("glTF KHR_materials_volume: a negative thickness or non-positive attenuation distance is named and left at "
-          "its default; validation rejects them in a scene built in code",
+          "its default, validation rejects them in a scene built in code",
           "[scene][gltf][glass]") {
   GltfBuilder b = volume_file(json::array({
       {{"name", "odd"},
