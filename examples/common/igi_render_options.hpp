@@ -1,0 +1,130 @@
+#pragma once
+// igi-render's whole command line: the options it shares with igi-cluster (render_options.hpp)
+// plus its own (animation, temporal reuse, the file's animations, profiling), their checks and
+// the --stats json fields of one IGI frame. The Python module (python/) builds its keyword
+// arguments from this same table, so every igi-render option is one of its keywords by name.
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "common/render_options.hpp"
+#include "igi/render/renderer.hpp"
+
+namespace igi::programs {
+
+/// igi-render's options beside the shared ones.
+struct IgiRenderOptions : RenderOptions {
+  std::string animate = "none";  ///< What moves from frame to frame (none: a still scene).
+  bool profile = false;          ///< Time each pipeline stage (stats: stage_cpu_ms).
+  bool play = false;             ///< Render --frames frames of the file's animation, frame i at i / fps seconds.
+  double fps = 24.0;             ///< Frames per second of --play.
+  /// With --time: the one time (seconds) of the file's animation to render (before its first key
+  /// it holds its first pose); NaN without --time.
+  double time = std::numeric_limits<double>::quiet_NaN();
+  std::string animation = "0";   ///< The file's animation to play: its name or index.
+  bool loop = false;             ///< Time wraps around the animation's duration instead of holding its last pose.
+};
+
+/// Whether the options play the file's own animation (--play or --time).
+inline bool plays_file_animation(const IgiRenderOptions& options) { return options.play || !std::isnan(options.time); }
+
+/// Adds every option of igi-render to `command_line`.
+inline void add_igi_render_options(CommandLine& command_line, IgiRenderOptions& options) {
+  add_render_options(command_line, options, "worker threads (0: all cores)",
+                     "frames to render (timings are their median; with --integrator path: passes of --spp samples)");
+  add_animate_option(command_line, options.animate,
+                     "render --frames frames of a moving scene to an image sequence: -o out.png writes out_0000.png, "
+                     "out_0001.png, ...; -o frames/%04d.png numbers them printf-style. light: the lights circle, "
+                     "object: the smallest object slides, camera: the view orbits the scene");
+  add_temporal_option(command_line, options.settings);
+  command_line.flag("--play", options.play,
+                    "render --frames frames of the file's own animation (glTF animations, skins, morph targets), frame i at "
+                    "time i / --fps, to an image sequence named as with --animate");
+  command_line.add("--fps", options.fps, "frames per second of --play").show_default();
+  command_line.add("--time", options.time, "render one frame of the file's animation at this time, in seconds");
+  command_line.add("--animation", options.animation, "the file's animation --play and --time play: its name or index")
+      .show_default();
+  command_line.flag("--loop", options.loop, "--play and --time wrap around the animation instead of holding its last pose");
+  command_line.flag("--profile", options.profile,
+                    "time each pipeline stage; --stats json then reports the last frame's CPU ms per stage as "
+                    "stage_cpu_ms (the clock reads make the frames 2-9% slower)");
+}
+
+/// Checks the combinations the option checks cannot (check_render_options, then igi-render's
+/// own); throws UsageError naming the problem. `sequences` says whether --output names an image
+/// sequence to check (igi-render writes files; the Python module does not).
+inline void check_igi_render_options(IgiRenderOptions& options, bool sequences = true) {
+  check_render_options(options);
+  if (options.settings.temporal_frames > 0 && options.integrator != "igi")
+    throw UsageError("--temporal averages IGI frames: it needs --integrator igi (the path tracer accumulates its passes anyway)");
+  if (options.animate != "none") {
+    if (options.integrator != "igi")
+      throw UsageError("--animate renders with --integrator igi only (the path tracer accumulates one still image)");
+    if (sequences) static_cast<void>(FrameNames(options.output, options.frames));  // a malformed %d pattern fails here, before any rendering
+  }
+  if (plays_file_animation(options)) {
+    if (options.animate != "none") throw UsageError("--play and --time play the file's animation: they exclude --animate");
+    if (options.play && !std::isnan(options.time)) throw UsageError("--play renders a sequence and --time one frame: choose one");
+    if (options.play && options.integrator != "igi")
+      throw UsageError("--play renders with --integrator igi only (the path tracer accumulates one still image)");
+    if (!(options.fps > 0.0) || !std::isfinite(options.fps)) throw UsageError("--fps must be a positive number");
+    if (options.play && sequences) static_cast<void>(FrameNames(options.output, options.frames));
+  }
+}
+
+/// The --stats json fields of a run's frame time and rays: `milliseconds` per frame, `rays` per
+/// frame, over `threads` worker threads.
+inline StatsJson frame_time_statistics(const IgiRenderOptions& options, double milliseconds, const RayCounts& rays, int threads) {
+  const double mrays = milliseconds > 0.0 ? double(rays.total()) / (milliseconds * 1e3) : 0.0;
+  StatsJson stats;
+  stats.set("frames", options.frames)
+      .set("ms_per_frame", milliseconds)
+      .set("fps", milliseconds > 0.0 ? 1000.0 / milliseconds : 0.0)
+      .set("rays_primary", rays.primary)
+      .set("rays_shadow", rays.shadow)
+      .set("rays_secondary", rays.secondary)
+      .set("mrays_per_s", mrays)
+      .set("threads", threads)
+      .set("integrator", options.integrator);
+  return stats;
+}
+
+/// The --stats json fields of an IGI frame beside the frame time: the sampling settings under the
+/// names `filter` and `vpl_sampler` chose, the clamp and the rest of the settings, and what
+/// `frame` (the last one rendered) cost; stage_cpu_ms is null unless the options profile.
+inline StatsJson igi_frame_statistics(const IgiRenderOptions& options, const std::string& filter,
+                                      const std::string& vpl_sampler, const FrameStatistics& frame) {
+  StatsJson stats = sampling_statistics(options.settings, filter, vpl_sampler);
+  stats.set("clamp", options.settings.clamp_distance)
+      .set("compensation_rays", options.settings.compensation_rays)
+      .set("shadow_roulette", double(options.settings.shadow_roulette))
+      .set("max_bounces", options.settings.max_bounces)
+      .set("temporal_frames", options.settings.temporal_frames)
+      .set("vpls_per_frame", frame.vpls)
+      .set("vpl_ms", frame.vpl_milliseconds)
+      .set("temporal_ms", frame.temporal_milliseconds);
+  if (options.profile) {
+    StatsJson stages;
+    frame.stages.each([&](const char* name, std::uint64_t ns) { stages.set(name, double(ns) * 1e-6); });
+    stages.set("total", double(frame.stages.total()) * 1e-6);
+    stats.set("stage_cpu_ms", stages);
+  } else {
+    stats.set("stage_cpu_ms", nullptr);
+  }
+  return stats;
+}
+
+/// The tone-mapped pixels of a converged image (the path tracer's): mapped with its own luminance
+/// statistics, since it has no previous frame.
+inline Rgb8Image tone_map_converged(const Image& hdr) {
+  LuminanceStatistics luminance;
+  for (const glm::vec3& p : hdr.pixels) luminance.add(p);
+  const ToneMapping tone = ToneMapping::from(luminance);
+  Rgb8Image rgb8(hdr.width, hdr.height);
+  for (int y = 0; y < hdr.height; ++y)
+    for (int x = 0; x < hdr.width; ++x) store_pixel(rgb8, x, y, quantize_srgb(tone.apply(hdr(x, y))));
+  return rgb8;
+}
+
+}  // namespace igi::programs
