@@ -5,7 +5,9 @@
 // arguments from this same table, so every igi-render option is one of its keywords by name.
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
+#include <span>
 #include <string>
 
 #include "common/render_options.hpp"
@@ -24,6 +26,7 @@ struct IgiRenderOptions : RenderOptions {
   double time = std::numeric_limits<double>::quiet_NaN();
   std::string animation = "0";   ///< The file's animation to play: its name or index.
   bool loop = false;             ///< Time wraps around the animation's duration instead of holding its last pose.
+  bool aov = false;              ///< Also write the G-buffer images (write_aovs) beside each image.
 };
 
 /// Whether the options play the file's own animation (--play or --time).
@@ -46,6 +49,10 @@ inline void add_igi_render_options(CommandLine& command_line, IgiRenderOptions& 
   command_line.add("--animation", options.animation, "the file's animation --play and --time play: its name or index")
       .show_default();
   command_line.flag("--loop", options.loop, "--play and --time wrap around the animation instead of holding its last pose");
+  command_line.flag("--aov", options.aov,
+                    "also write the G-buffer beside each image, for a denoiser or compositing: the first hit's albedo, "
+                    "shading normal and depth (distance along the camera ray; 0 where it hit nothing), as out_albedo.exr, "
+                    "out_normal.exr and out_depth.exr for -o out.exr (.pfm for .pfm; EXR for a PNG)");
   command_line.flag("--profile", options.profile,
                     "time each pipeline stage; --stats json then reports the last frame's CPU ms per stage as "
                     "stage_cpu_ms (the clock reads make the frames 2-9% slower)");
@@ -113,6 +120,29 @@ inline StatsJson igi_frame_statistics(const IgiRenderOptions& options, const std
     stats.set("stage_cpu_ms", nullptr);
   }
   return stats;
+}
+
+/// The file of the G-buffer image `layer` ("albedo", "normal", "depth") beside the image `output`:
+/// out.exr -> out_albedo.exr; the G-buffer of a PNG image goes to EXR files, as it is not a colour.
+inline std::filesystem::path aov_path(const std::filesystem::path& output, const std::string& layer) {
+  std::filesystem::path path = output;
+  const bool png = image_format(output) == ImageFormat::png;
+  path.replace_filename(output.stem().string() + "_" + layer + (png ? std::string(".exr") : output.extension().string()));
+  return path;
+}
+
+/// Writes the G-buffer `layers` (width x height, row by row from the top) beside the image
+/// `output` (aov_path): albedo, normal and depth (the distance in all three channels).
+inline void write_aovs(const std::filesystem::path& output, std::span<const PixelLayers> layers, int width, int height) {
+  Image albedo(width, height), normal(width, height), depth(width, height);
+  for (std::size_t i = 0; i < layers.size(); ++i) {
+    albedo.pixels[i] = layers[i].albedo;
+    normal.pixels[i] = layers[i].normal;
+    depth.pixels[i] = glm::vec3(layers[i].depth);
+  }
+  write_image(aov_path(output, "albedo"), albedo);
+  write_image(aov_path(output, "normal"), normal);
+  write_image(aov_path(output, "depth"), depth);
 }
 
 /// The tone-mapped pixels of a converged image (the path tracer's): mapped with its own luminance

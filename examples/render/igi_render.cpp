@@ -81,6 +81,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
   igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::programs::ProgramVplSampler, igi::FilterChoice> renderer(
       scene, options.settings, surface, brdf, sampler, filter);
   renderer.set_profiling(options.profile);
+  renderer.set_keep_layers(options.aov);
   const igi::Animation animation = igi::parse_animation(options.animate);
   const bool sequence = animation != igi::Animation::none || options.play;
   const igi::Scene initial = animation != igi::Animation::none ? scene : igi::Scene{};  // animations are functions of the initial scene
@@ -112,10 +113,12 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
     deforming.push_back(times.deforming_milliseconds);
     bvh_update.push_back(frame.statistics.commit_milliseconds);
     if (sequence) write_output(names(f), frame.hdr, frame.rgb8);
+    if (sequence && options.aov) write_aovs(names(f), renderer.layers(), frame.width, frame.height);
     progress.advance();
   }
   progress.finish();
   if (!sequence) write_output(options.output, frame.hdr, frame.rgb8);
+  if (!sequence && options.aov) write_aovs(options.output, renderer.layers(), frame.width, frame.height);
   warn_if_dark(scene, frame.hdr);
   const std::string written = sequence ? names(0).string() + " .. " + names(options.frames - 1).string() + " (" +
                                              std::to_string(options.frames) + " frames)"
@@ -171,6 +174,7 @@ int run_path(igi::Scene& scene, const igi::Camera& camera, const Options& option
   const igi::Image hdr = tracer.image();
   const igi::Rgb8Image rgb8 = tone_map_converged(hdr);
   write_output(options.output, hdr, rgb8);
+  if (options.aov) write_aovs(options.output, tracer.first_hits(), hdr.width, hdr.height);
   warn_if_dark(scene, hdr);
   igi::RayCounts per_pass = tracer.statistics().rays;
   const auto passes = std::uint64_t(options.frames);

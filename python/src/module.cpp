@@ -394,17 +394,17 @@ PYBIND11_MODULE(_igi, m) {
         const auto& f = self.cast<const RenderedFrame&>();
         if (f.albedo.empty()) return py::none();
         return float_image(self, &f.albedo.front().x, f.width, f.height, 3);
-      }, "Diffuse albedo of the first hit, float32 (height, width, 3); None for the path tracer")
+      }, "Diffuse albedo of the first hit, float32 (height, width, 3)")
       .def_property_readonly("normal", [](const py::object& self) -> py::object {
         const auto& f = self.cast<const RenderedFrame&>();
         if (f.normal.empty()) return py::none();
         return float_image(self, &f.normal.front().x, f.width, f.height, 3);
-      }, "Unit shading normal of the first hit (world space; 0 where the ray missed), float32 (height, width, 3); None for the path tracer")
+      }, "Unit shading normal of the first hit (world space; 0 where the ray missed), float32 (height, width, 3)")
       .def_property_readonly("depth", [](const py::object& self) -> py::object {
         const auto& f = self.cast<const RenderedFrame&>();
         if (f.depth.empty()) return py::none();
         return float_image(self, f.depth.data(), f.width, f.height, 1);
-      }, "Distance along the primary ray to the first hit (0 where it missed), float32 (height, width); None for the path tracer")
+      }, "Distance along the primary ray to the first hit (0 where it missed), float32 (height, width)")
       .def_property_readonly("statistics", [](const RenderedFrame& f) {
         return py::module_::import("json").attr("loads")(f.statistics);
       }, "What igi-render --stats json prints, as a dict")

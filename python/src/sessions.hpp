@@ -24,6 +24,18 @@ inline int reported_threads(const programs::IgiRenderOptions& options) {
   return options.settings.threads > 0 ? options.settings.threads : tbb::info::default_concurrency();
 }
 
+/// Copies the G-buffer images (albedo, normal, depth) of `layers` into `frame`.
+inline void copy_layers(std::span<const PixelLayers> layers, RenderedFrame& frame) {
+  frame.albedo.reserve(layers.size());
+  frame.normal.reserve(layers.size());
+  frame.depth.reserve(layers.size());
+  for (const PixelLayers& pixel : layers) {
+    frame.albedo.push_back(pixel.albedo);
+    frame.normal.push_back(pixel.normal);
+    frame.depth.push_back(pixel.depth);
+  }
+}
+
 /// igi-render's IGI pipeline over backend B: the same policies, settings and statistics.
 template <class B>
 class IgiSession final : public RenderSession {
@@ -43,15 +55,7 @@ class IgiSession final : public RenderSession {
   RenderedFrame render(const Camera& camera, std::uint32_t index) override {
     Frame frame = renderer_.render(camera, index);
     RenderedFrame out{.width = frame.width, .height = frame.height, .hdr = std::move(frame.hdr), .rgb8 = std::move(frame.rgb8)};
-    const std::span<const PixelLayers> layers = renderer_.layers();
-    out.albedo.reserve(layers.size());
-    out.normal.reserve(layers.size());
-    out.depth.reserve(layers.size());
-    for (const PixelLayers& pixel : layers) {
-      out.albedo.push_back(pixel.albedo);
-      out.normal.push_back(pixel.normal);
-      out.depth.push_back(pixel.depth);
-    }
+    copy_layers(renderer_.layers(), out);
     out.statistics = programs::run_statistics(*scene_, options_, B::name(), B::width, options_.animate)
                          .update(programs::frame_time_statistics(options_, frame.statistics.milliseconds,
                                                                  frame.statistics.rays, reported_threads(options_)))
@@ -97,6 +101,7 @@ class PathSession final : public RenderSession {
     }
     RenderedFrame out{.width = options_.settings.width, .height = options_.settings.height, .hdr = tracer_->image()};
     out.rgb8 = programs::tone_map_converged(out.hdr);
+    copy_layers(tracer_->first_hits(), out);
     RayCounts per_pass = tracer_->statistics().rays;
     const auto passes = std::uint64_t(options_.frames);
     per_pass = {per_pass.primary / passes, per_pass.shadow / passes, per_pass.secondary / passes};
