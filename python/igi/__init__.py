@@ -9,4 +9,4 @@
 docs/python.md describes the whole interface.
 """
 from ._igi import *  # noqa: F401,F403 - the compiled module is the package's interface
-from ._igi import __doc__ as _compiled_doc  # noqa: F401
+from ._igi import __version__  # noqa: F401 - not among the names * brings

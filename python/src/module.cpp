@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <string>
@@ -209,6 +210,7 @@ class PythonRenderer {
     else if (animator_)
       changes = (*animator_)(index);
     py::gil_scoped_release release;  // rendering runs on igi's own threads
+    const std::lock_guard lock(busy_);
     if (changes) {
       session_->apply(*changes);
       if (camera.is_none() || animator_) view = changes->camera;
@@ -220,14 +222,14 @@ class PythonRenderer {
   void set_instance_transform(const py::handle& instance, const py::handle& transform) {
     SceneChanges changes;
     changes.instances.emplace_back(index_of(scene_->instances, instance, "instance"), matrix_from(transform));
-    session_->apply(changes);
+    apply(changes);
   }
 
   /// Replaces punctual light `light` (index or name) from the next frame on.
   void set_light(const py::handle& light, const PunctualLight& value) {
     SceneChanges changes;
     changes.lights.emplace_back(index_of(scene_->lights, light, "light"), value);
-    session_->apply(changes);
+    apply(changes);
   }
 
   /// The camera frames use unless told otherwise.
@@ -238,6 +240,12 @@ class PythonRenderer {
   std::pair<int, int> size() const noexcept { return {options_.settings.width, options_.settings.height}; }
 
  private:
+  /// Applies `changes` once no other thread renders with this renderer.
+  void apply(const SceneChanges& changes) {
+    py::gil_scoped_release release;  // a render in another thread finishes without the GIL
+    const std::lock_guard lock(busy_);
+    session_->apply(changes);
+  }
   /// The file's animation the options name, played on the scene (built when first needed).
   const AnimationPlayer& player() {
     if (!player_) player_.emplace(*scene_, find_animation(*scene_, options_.animation), options_.loop);
@@ -264,6 +272,7 @@ class PythonRenderer {
   std::optional<Animator> animator_;
   std::optional<AnimationPlayer> player_;
   std::unique_ptr<RenderSession> session_;
+  std::mutex busy_;  ///< Held while rendering or changing the scene: Python threads may share a renderer.
 };
 
 /// A camera at `origin` looking at `target` with `up` upwards and a vertical field of view of
@@ -311,6 +320,7 @@ PYBIND11_MODULE(_igi, m) {
       error(e.what());
     }
   });
+  m.attr("__version__") = IGI_VERSION;
   m.attr("packet_width") = native_packet_width;
 
   py::class_<Camera>(m, "Camera", "A pinhole camera: glTF's, a scene's fitted view, or igi.look_at's")

@@ -62,6 +62,11 @@ def cornell():
     return igi.builtin("cornell")
 
 
+def test_the_package_has_a_version_and_a_packet_width():
+    assert igi.__version__.count(".") == 2
+    assert igi.packet_width in (4, 8, 16)  # one register of floats: SSE, AVX2 or AVX-512
+
+
 def test_a_frame_has_images_of_the_documented_shapes_and_types(cornell):
     frame = igi.Renderer(cornell, **SMALL, vpls=8, seed=0).render(frame=0)
     assert frame.hdr.shape == (36, 48, 3) and frame.hdr.dtype == np.float32
@@ -322,3 +327,20 @@ def test_rendering_releases_the_gil(cornell):
     thread.join()
     # Held through the render (hundreds of milliseconds), the GIL would let this loop run once or twice.
     assert turns > 20
+
+
+def test_threads_may_share_a_renderer(cornell):
+    renderer = igi.Renderer(cornell, **SMALL, vpls=4)
+    expected = renderer.render(frame=1).hdr.copy()
+    results = [None] * 4
+
+    def render(slot):
+        results[slot] = renderer.render(frame=1).hdr
+
+    threads = [threading.Thread(target=render, args=(slot,)) for slot in range(len(results))]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    for hdr in results:
+        assert np.array_equal(hdr, expected)
