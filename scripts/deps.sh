@@ -9,6 +9,7 @@ packages=(
   libopenmpi-dev openmpi-bin
   libsdl2-dev xvfb xauth
   doxygen
+  python3-dev python3-venv pybind11-dev python3-numpy python3-pytest
 )
 missing=()
 for package in "${packages[@]}"; do

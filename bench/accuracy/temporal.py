@@ -7,45 +7,64 @@ keeps falling (its clamp shrinks as the history grows); H = 8 levels off where i
 average keeps 1/8 of each new frame. Times are not measured here (each frame costs what a frame
 without reuse costs plus the reprojection; see docs/filters.md).
 
+It renders with the Python module built in BUILD_DIR (BUILD_DIR/python): one Renderer per seed
+renders the frames in order and is compared after each count of FRAMES, where igi-render would
+render every count anew; its frames are igi-render's, bit for bit.
+
 usage: /usr/bin/python3 bench/accuracy/temporal.py BUILD_DIR WORK_DIR OUT_DIR [SCENES_DIR]
 writes OUT_DIR/temporal.csv and OUT_DIR/temporal.png.
 """
 
+
+import sys
 
 import matplotlib
 
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt
 
-from methods import SIZE, arguments_and_references, compare, render, scene_arguments, write_csv
+from methods import SIZE, arguments_and_references, write_csv
 
-# (label, igi-render options)
+# (label, igi-render options as the module's keyword arguments)
 CONFIGURATIONS = [
-    ("--temporal 8", ["--temporal", "8"]),
-    ("--temporal 32", ["--temporal", "32"]),
-    ("--temporal 32, importance", ["--temporal", "32", "--vpl-sampler", "importance"]),
+    ("--temporal 8", {"temporal": 8}),
+    ("--temporal 32", {"temporal": 32}),
+    ("--temporal 32, importance", {"temporal": 32, "vpl_sampler": "importance"}),
 ]
 FRAMES = [1, 2, 4, 8, 16, 32, 64]
 SEEDS = [1, 2, 3]  # one frame's error depends on its VPLs' luck (the window room's most of all)
 VPLS = 16  # igi's default
 
 
+def load_scene(igi, scene, scenes_dir):
+    """The scene methods.py's scene_arguments names, as the module loads it."""
+    if scene == "sponza_lit":
+        return igi.load(str(scenes_dir / "sponza" / "Sponza_lit.gltf"))
+    return igi.builtin(scene)
+
+
 def main():
     build, work, out, scenes_dir, references = arguments_and_references("temporal")
+    sys.path.insert(0, str(build / "python"))  # the module built beside igi-render
+    import igi
+
     scenes = [scene for scene, _ in references]
     rows = []
-    for scene, reference in references:
+    for scene, reference_file in references:
+        reference = igi.read_image(str(reference_file))
+        loaded = load_scene(igi, scene, scenes_dir)
         for label, options in CONFIGURATIONS:
+            errors = {frames: [] for frames in FRAMES}
+            for seed in SEEDS:
+                renderer = igi.Renderer(loaded, size=SIZE, threads=2, vpls=VPLS, seed=seed, **options)
+                for index in range(max(FRAMES)):
+                    frame = renderer.render(frame=index)
+                    if index + 1 in errors:  # igi-render --frames index+1 writes this frame
+                        errors[index + 1].append(igi.relmse(frame.hdr, reference))
             for frames in FRAMES:
-                errors = []
-                for seed in SEEDS:
-                    test = work / f"{scene}_{'_'.join(options).replace('-', '')}_{frames}_{seed}.pfm"
-                    render(build, scene_arguments(scene, scenes_dir) + options +
-                           ["--vpls", str(VPLS), "--frames", str(frames), "--seed", str(seed)], test)
-                    errors.append(compare(build, reference, test))
-                relmse = sum(e["relmse"] for e in errors) / len(errors)
+                relmse = sum(errors[frames]) / len(errors[frames])
                 rows.append({"scene": scene, "configuration": label, "frames": frames, "relmse": relmse,
-                             "relmse_per_seed": " ".join(f"{e['relmse']:.5f}" for e in errors)})
+                             "relmse_per_seed": " ".join(f"{e:.5f}" for e in errors[frames])})
                 print(f"{scene:10} {label:26} frame {frames:2}: relMSE {relmse:.4f}", flush=True)
     write_csv(out / "temporal.csv", rows)
     figure, axes = plt.subplots(1, len(scenes), figsize=(5 * len(scenes), 4.2))

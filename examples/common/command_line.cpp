@@ -1,6 +1,7 @@
 // CommandLine over CLI11 (see command_line.hpp): the one translation unit that compiles CLI11.
 #include "common/command_line.hpp"
 
+#include <algorithm>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -77,6 +78,24 @@ std::optional<int> CommandLine::parse(int argc, char** argv, bool speak) {
     if (speak) std::cerr << program_ << ": " << error.what() << "\n";
     return 2;
   }
+}
+
+void CommandLine::parse_arguments(const std::vector<std::string>& arguments) {
+  std::vector<std::string> reversed(arguments.rbegin(), arguments.rend());  // CLI11 takes a vector last argument first
+  try {
+    app_->parse(reversed);
+  } catch (const CLI::ParseError& error) {
+    throw UsageError(error.what());
+  }
+}
+
+std::vector<CommandLine::OptionName> CommandLine::option_names() const {
+  std::vector<OptionName> names;
+  for (const CLI::Option* option : app_->get_options()) {
+    if (option->get_lnames().empty() || option == app_->get_help_ptr()) continue;
+    names.push_back({"--" + option->get_lnames().front(), option->get_expected_max() == 0});
+  }
+  return names;
 }
 
 }  // namespace igi::programs

@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace CLI {
 class App;
@@ -71,6 +72,17 @@ class CommandLine {
   /// bad command line; nothing when it should go on. With `speak` false it prints neither (for
   /// all but one of several processes parsing the same command line).
   std::optional<int> parse(int argc, char** argv, bool speak = true);
+  /// Parses `arguments` (without a program name) into the variables, for callers that are no
+  /// program's main (the Python module); throws UsageError with the parser's message for a bad one.
+  void parse_arguments(const std::vector<std::string>& arguments);
+
+  /// One option's long name ("--vpls") and whether it is a flag, taking no value.
+  struct OptionName {
+    std::string name;  ///< The long name with its dashes.
+    bool flag;         ///< True for a flag.
+  };
+  /// The options that have a long name, in the order they were added (--help left out).
+  std::vector<OptionName> option_names() const;
 
  private:
   std::string program_;            ///< Name in messages.

@@ -70,7 +70,7 @@ void check_scene_options(const SceneOptions& scene) {
     throw UsageError("give either a SCENE file or --builtin cornell|window|blinds|window-sky|blinds-sky|two-windows");
 }
 
-Scene load_scene(const SceneOptions& options) {
+Scene read_scene(const SceneOptions& options) {
   Scene scene;
   if (options.builtin.empty())
     scene = load_gltf(options.scene_file);
@@ -86,6 +86,10 @@ Scene load_scene(const SceneOptions& options) {
     scene = two_window_room();
   else
     scene = cornell_box();
+  return scene;
+}
+
+void light_scene(Scene& scene, const SceneOptions& options) {
   if (options.environment == "none") {
     scene.environment = nullptr;
   } else if (options.environment == "neutral") {
@@ -96,6 +100,11 @@ Scene load_scene(const SceneOptions& options) {
     std::cerr << "igi: scene '" << scene.name
               << "' has no lights; it is lit by the neutral default sky (--environment FILE for another, --environment none for none)\n";
   }
+}
+
+Scene load_scene(const SceneOptions& options) {
+  Scene scene = read_scene(options);
+  light_scene(scene, options);
   return scene;
 }
 

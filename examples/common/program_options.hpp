@@ -50,8 +50,12 @@ struct SceneOptions {
 void add_scene_options(CommandLine& command_line, SceneOptions& scene);
 /// Throws UsageError unless exactly one of a SCENE file and --builtin was given.
 void check_scene_options(const SceneOptions& scene);
-/// The scene the options name (loads the glTF file, or builds the built-in scene) with the
-/// environment they name; a scene without light gets the neutral sky, said in one line on stderr.
+/// The scene the options name as it is: the glTF file loaded, or the built-in scene built.
+Scene read_scene(const SceneOptions& scene);
+/// Gives `scene` the environment the options name; a scene without light gets the neutral sky,
+/// said in one line on stderr.
+void light_scene(Scene& scene, const SceneOptions& options);
+/// read_scene, then light_scene: the scene a program renders.
 Scene load_scene(const SceneOptions& scene);
 
 /// Adds --size WIDTHxHEIGHT (the text is parsed later, by parse_image_size).

@@ -136,8 +136,10 @@ inline void add_play_options(CommandLine& command_line, PlayOptions& o) {
 }
 
 /// Checks what the option checks cannot: --play and --time against each other, --animate,
-/// --camera and the integrator, --fps, and the names of an image sequence.
-inline void check_play_options(const PlayOptions& o, const RenderOptions& render, const std::string& animate) {
+/// --camera and the integrator, --fps, and (with `sequences`: for a program that writes files)
+/// the names of an image sequence.
+inline void check_play_options(const PlayOptions& o, const RenderOptions& render, const std::string& animate,
+                               bool sequences = true) {
   if (!o.play && !o.at_one_time() && o.camera_path.empty()) return;
   if (animate != "none") throw UsageError("--play, --time and --camera-path play files' animations: they exclude --animate");
   if (o.play && o.at_one_time()) throw UsageError("--play renders a sequence and --time one frame: choose one");
@@ -147,7 +149,7 @@ inline void check_play_options(const PlayOptions& o, const RenderOptions& render
     throw UsageError("a sequence (--play, --camera-path) renders with --integrator igi only (the path tracer accumulates "
                      "one still image; --time renders one moment with it)");
   if (!(o.fps > 0.0) || !std::isfinite(o.fps)) throw UsageError("--fps must be a positive number");
-  if (o.plays_sequence()) static_cast<void>(FrameNames(render.output, render.frames));  // a malformed %d pattern fails here
+  if (o.plays_sequence() && sequences) static_cast<void>(FrameNames(render.output, render.frames));  // a malformed %d pattern fails here
 }
 
 /// A camera path the options name, as a UsageError if it cannot be followed.

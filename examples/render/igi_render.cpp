@@ -17,7 +17,7 @@
 
 #include "common/command_line.hpp"
 #include "common/progress_bar.hpp"
-#include "common/render_options.hpp"
+#include "common/igi_render_options.hpp"
 #include "common/stats_json.hpp"
 #include "common/stop_signals.hpp"
 #include "igi/render/animation.hpp"
@@ -34,19 +34,8 @@ namespace {
 
 using namespace igi::programs;
 
-/// igi-render's own options beside the shared ones.
-struct Options : RenderOptions, PlayOptions {
-  std::string animate = "none";  ///< What moves from frame to frame (none: a still scene).
-  bool profile = false;          ///< Time each pipeline stage (stats: stage_cpu_ms).
-};
-
-/// CPU milliseconds of each pipeline stage of one frame, for the stats JSON.
-StatsJson stage_milliseconds(const igi::StageTimes& times) {
-  StatsJson stages;
-  times.each([&](const char* name, std::uint64_t ns) { stages.set(name, double(ns) * 1e-6); });
-  stages.set("total", double(times.total()) * 1e-6);
-  return stages;
-}
+/// igi-render's options.
+using Options = IgiRenderOptions;
 
 /// Prints the statistics, as one JSON object with --stats json, else as two lines.
 void report(const igi::Scene& scene, const Options& options, const char* backend, int packet, double ms,
@@ -54,16 +43,8 @@ void report(const igi::Scene& scene, const Options& options, const char* backend
   const double mrays = ms > 0.0 ? double(rays.total()) / (ms * 1e3) : 0.0;
   const int threads = options.settings.threads > 0 ? options.settings.threads : tbb::info::default_concurrency();
   if (options.stats == "json") {
-    StatsJson stats = run_statistics(scene, options, backend, packet, options.animate);
-    stats.set("frames", options.frames)
-        .set("ms_per_frame", ms)
-        .set("fps", ms > 0.0 ? 1000.0 / ms : 0.0)
-        .set("rays_primary", rays.primary)
-        .set("rays_shadow", rays.shadow)
-        .set("rays_secondary", rays.secondary)
-        .set("mrays_per_s", mrays)
-        .set("threads", threads)
-        .set("integrator", options.integrator)
+    run_statistics(scene, options, backend, packet, options.animate)
+        .update(frame_time_statistics(options, ms, rays, threads))
         .update(extra)
         .print();
     return;
@@ -93,6 +74,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
   igi::Renderer<B, igi::GltfMaterialShader, igi::StandardBrdf, igi::programs::ProgramVplSampler, igi::FilterChoice> renderer(
       scene, options.settings, surface, brdf, sampler, filter);
   renderer.set_profiling(options.profile);
+  renderer.set_keep_layers(options.aov);
   const igi::Animation animation = igi::parse_animation(options.animate);
   const bool sequence = animation != igi::Animation::none || options.plays_sequence();
   const igi::Scene initial = animation != igi::Animation::none ? scene : igi::Scene{};  // animations are functions of the initial scene
@@ -123,23 +105,17 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
     deforming.push_back(times.deforming_milliseconds);
     bvh_update.push_back(frame.statistics.commit_milliseconds);
     if (sequence) write_output(names(f), frame.hdr, frame.rgb8);
+    if (sequence && options.aov) write_aovs(names(f), renderer.layers(), frame.width, frame.height);
     progress.advance();
   }
   progress.finish();
   if (!sequence) write_output(options.output, frame.hdr, frame.rgb8);
+  if (!sequence && options.aov) write_aovs(options.output, renderer.layers(), frame.width, frame.height);
   warn_if_dark(scene, frame.hdr);
   const std::string written = sequence ? names(0).string() + " .. " + names(options.frames - 1).string() + " (" +
                                              std::to_string(options.frames) + " frames)"
                                        : options.output;
-  StatsJson extra = sampling_statistics(options.settings, filter.chosen(), sampler.chosen());
-  extra.set("clamp", options.settings.clamp_distance)
-      .set("compensation_rays", options.settings.compensation_rays)
-      .set("shadow_roulette", double(options.settings.shadow_roulette))
-      .set("max_bounces", options.settings.max_bounces)
-      .set("temporal_frames", options.settings.temporal_frames)
-      .set("vpls_per_frame", frame.statistics.vpls)
-      .set("vpl_ms", frame.statistics.vpl_milliseconds)
-      .set("temporal_ms", frame.statistics.temporal_milliseconds);
+  StatsJson extra = igi_frame_statistics(options, filter.chosen(), sampler.chosen(), frame.statistics);
   if (options.play) {
     // Medians over the frames, as the frame time: sampling channels and nodes, skinning and
     // morphing vertices (these two before the frame), handing them to the scene and backend (also
@@ -152,10 +128,6 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
         .set("play_fps", options.fps);
   }
   if (!options.camera_path.empty()) extra.set("camera_path", options.camera_path);
-  if (options.profile)
-    extra.set("stage_cpu_ms", stage_milliseconds(frame.statistics.stages));
-  else
-    extra.set("stage_cpu_ms", nullptr);
   report(scene, options, B::name(), B::width, median(milliseconds), frame.statistics.rays, written, extra);
   if (options.play && options.stats != "json")
     std::printf("animation per frame (median): sampling %.3f ms, skinning %.3f ms, scene update %.3f ms, BVH update %.3f ms "
@@ -193,20 +165,9 @@ int run_path(igi::Scene& scene, const igi::Camera& camera, const Options& option
   }
   progress.finish();
   const igi::Image hdr = tracer.image();
-  // A converged reference has no previous frame: it is tone mapped with its own statistics.
-  igi::LuminanceStatistics luminance;
-  for (const glm::vec3& p : hdr.pixels) luminance.add(p);
-  const igi::ToneMapping tone = igi::ToneMapping::from(luminance);
-  igi::Rgb8Image rgb8(hdr.width, hdr.height);
-  for (int y = 0; y < hdr.height; ++y)
-    for (int x = 0; x < hdr.width; ++x) {
-      const glm::u8vec3 q = igi::quantize_srgb(tone.apply(hdr(x, y)));
-      std::uint8_t* p = rgb8.pixel(x, y);
-      p[0] = q.r;
-      p[1] = q.g;
-      p[2] = q.b;
-    }
+  const igi::Rgb8Image rgb8 = tone_map_converged(hdr);
   write_output(options.output, hdr, rgb8);
+  if (options.aov) write_aovs(options.output, tracer.first_hits(), hdr.width, hdr.height);
   warn_if_dark(scene, hdr);
   igi::RayCounts per_pass = tracer.statistics().rays;
   const auto passes = std::uint64_t(options.frames);
@@ -228,28 +189,10 @@ int main(int argc, char** argv) {
   install_stop_signals();
   Options options;
   CommandLine command_line{"igi-render", "interactive global illumination (instant radiosity with interleaved sampling)"};
-  add_render_options(command_line, options, "worker threads (0: all cores)",
-                     "frames to render (timings are their median; with --integrator path: passes of --spp samples)");
-  add_animate_option(command_line, options.animate,
-                     "render --frames frames of a moving scene to an image sequence: -o out.png writes out_0000.png, "
-                     "out_0001.png, ...; -o frames/%04d.png numbers them printf-style. light: the lights circle, "
-                     "object: the smallest object slides, camera: the view orbits the scene");
-  add_temporal_option(command_line, options.settings);
-  add_play_options(command_line, options);
-  command_line.flag("--profile", options.profile,
-                    "time each pipeline stage; --stats json then reports the last frame's CPU ms per stage as "
-                    "stage_cpu_ms (the clock reads make the frames 2-9% slower)");
+  add_igi_render_options(command_line, options);
   if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
-    check_render_options(options);
-    if (options.settings.temporal_frames > 0 && options.integrator != "igi")
-      throw UsageError("--temporal averages IGI frames: it needs --integrator igi (the path tracer accumulates its passes anyway)");
-    if (options.animate != "none") {
-      if (options.integrator != "igi")
-        throw UsageError("--animate renders with --integrator igi only (the path tracer accumulates one still image)");
-      static_cast<void>(FrameNames(options.output, options.frames));  // a malformed %d pattern fails here, before any rendering
-    }
-    check_play_options(options, options, options.animate);
+    check_igi_render_options(options);
   } catch (const std::exception& e) {
     std::cerr << "igi-render: " << e.what() << "\n";
     return 2;

@@ -40,6 +40,7 @@
 #include "igi/io/image_types.hpp"
 #include "igi/lighting/light_sampling.hpp"
 #include "igi/render/pipeline.hpp"
+#include "igi/render/pixel_layers.hpp"
 #include "igi/scene/camera.hpp"
 #include "igi/shading/brdf_sampling.hpp"
 #include "igi/shading/brdf_shader.hpp"
@@ -161,6 +162,34 @@ class PathTracer {
     const double scale = samples_ > 0 ? 1.0 / double(samples_) : 0.0;
     for (std::size_t i = 0; i < sums_.size(); ++i) result.pixels[i] = glm::vec3(sums_[i] * scale);
     return result;
+  }
+
+  /// The G-buffer of the current image (after reset; SettingsError before): for each pixel, row by
+  /// row from the top, the first opaque hit of the camera ray through its centre, as the IGI
+  /// pipeline's PixelLayers give it with one camera ray per pixel: albedo, shading normal, distance
+  /// and hit (all zero on a miss); the radiance terms stay zero. What a denoiser or compositing reads.
+  std::vector<PixelLayers> first_hits() {
+    if (!projection_) throw SettingsError("PathTracer::first_hits before reset(camera, width, height)");
+    const int width = projection_->width(), height = projection_->height();
+    std::vector<PixelLayers> layers(std::size_t(width) * std::size_t(height));
+    arena_.execute([&] {
+      tbb::parallel_for(0, height, [&](int y) {
+        for (int x = 0; x < width; ++x) {
+          RayPacket<1> ray;
+          ray.set(vec3<1>(projection_->origin()), vec3<1>(projection_->direction(float(x) + 0.5f, float(y) + 0.5f)),
+                  vfloat<1>(0.0f), vfloat<1>(std::numeric_limits<float>::infinity()), vmask<1>(true));
+          std::uint64_t rays = 0;
+          const Vertex v = trace(ray, rays);
+          if (!v.found) continue;
+          PixelLayers& pixel = layers[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+          pixel.albedo = v.parameters.albedo[0];
+          pixel.normal = v.parameters.normal[0];
+          pixel.depth = v.hit.distance[0];
+          pixel.hit = true;
+        }
+      });
+    });
+    return layers;
   }
 
   /// reset + add_samples(spp) + image: a width x height image of `camera` at `spp` samples per pixel.

@@ -112,11 +112,13 @@ class Renderer {
     Frame frame = Frame::blank(settings.width, settings.height, index);
     FrameOptions options{.profile = profiling_};
     if (temporal_) {
-      options.keep_layers = true;
       const TemporalReuse::FrameRequest request = temporal_->begin(camera, settings.width, settings.height, scene_changed_);
       options.clamp_scale = request.clamp_scale;
       options.pixel_jitter = request.pixel_jitter;
       options.texture_cone_scale = request.texture_cone_scale;
+    }
+    if (temporal_ || keep_layers_) {
+      options.keep_layers = true;
       layers_.resize(std::size_t(settings.width) * std::size_t(settings.height));
     }
     scene_changed_ = false;
@@ -177,6 +179,12 @@ class Renderer {
   /// Times every pipeline stage of the following frames into FrameStatistics::stages (off by
   /// default: the clock reads around each packet's queries made Cornell and Sponza_lit frames 2-9% slower).
   void set_profiling(bool on) noexcept { profiling_ = on; }
+  /// Keeps each following frame's PixelLayers (the G-buffer: albedo, normal, depth and the
+  /// shading terms) for layers(); off by default, since it keeps 68 bytes per pixel (sizeof(PixelLayers)).
+  void set_keep_layers(bool on) noexcept { keep_layers_ = on; }
+  /// The last frame's PixelLayers, row by row from the top (with set_keep_layers or
+  /// RenderSettings::temporal_frames; else empty).
+  std::span<const PixelLayers> layers() const noexcept { return layers_; }
   /// Forgets the tone-mapping history, as after a cut.
   void reset_tone_mapping() noexcept { tone_mapping_.reset(); }
   /// The temporal histories (with RenderSettings::temporal_frames; else null).
@@ -211,6 +219,7 @@ class Renderer {
   Engine engine_;
   std::optional<ToneMapping> tone_mapping_;
   bool profiling_ = false;
+  bool keep_layers_ = false;         ///< Whether frames keep their PixelLayers without temporal reuse (set_keep_layers).
   std::optional<TemporalReuse> temporal_ =
       engine_.settings().temporal_frames > 0 ? std::optional<TemporalReuse>(engine_.settings().temporal_frames)
                                              : std::nullopt;
