@@ -32,7 +32,8 @@ inline Camera cornell_corner_camera() { return look_at({0.15f, 0.3f, 0.3f}, {0.0
 /// Adds a Lambertian material (metallic 0, roughness 1, specular 0) of `albedo` emitting `emission`; returns its index.
 inline int add_material(Scene& scene, const glm::vec3& albedo, const glm::vec3& emission = glm::vec3(0.0f)) {
   Material m;
-  m.name = "m" + std::to_string(scene.materials.size());
+  m.name = "m";  // appended, not "m" + ...: GCC 12 misreads that insert at 0 as an overlapping copy (-Wrestrict)
+  m.name += std::to_string(scene.materials.size());
   m.base_color = glm::vec4(albedo, 1.0f);
   m.metallic = 0.0f;
   m.roughness = 1.0f;

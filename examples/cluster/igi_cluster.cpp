@@ -77,7 +77,10 @@ int run(igi::Scene& scene, const igi::Camera& camera, const Options& options, in
     const igi::ClusterFrameReport& report = farm.report();
     if (names) write_frame((*names)(f), frame);
     std::string tiles;
-    for (int r = 0; r < farm.size(); ++r) tiles += (r ? " " : "") + std::to_string(report.tiles_per_rank[std::size_t(r)]);
+    for (int r = 0; r < farm.size(); ++r) {
+      if (r) tiles += ' ';
+      tiles += std::to_string(report.tiles_per_rank[std::size_t(r)]);
+    }
     if (options.stats != "json")
       std::printf("frame %u: %.2f ms, %.2f fps, %llu bytes to rank 0 (%llu pixel bytes%s), tiles per rank [%s]\n", index,
                   report.milliseconds, report.fps(), (unsigned long long)report.bytes_to_master,

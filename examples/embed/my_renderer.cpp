@@ -1,19 +1,24 @@
 // Use igi in your renderer, a tutorial: this renderer builds its own scene and camera, shades with
 // its own scalar function and light source, and lets igi compute the global illumination.
-// CMakeLists.txt beside it finds igi with find_package(igi) and links igi::igi and igi::embree.
+// CMakeLists.txt beside it finds igi with find_package(igi) and links igi::igi and igi::embree,
+// or with MY_RENDERER_COMPILED igi::compiled, whose renderer comes compiled (README.md).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <utility>
 #include <glm/gtc/matrix_transform.hpp>
-#include <igi/backends/embree/embree_backend.hpp>
-#include <igi/filters/tile_filters.hpp>
 #include <igi/io/image_files.hpp>
 #include <igi/lighting/qmc_vpl_sampler.hpp>
+#if defined(MY_RENDERER_COMPILED)
+#include <igi/render/scalar_surface_renderer.hpp>
+#else
+#include <igi/backends/embree/embree_backend.hpp>
+#include <igi/filters/tile_filters.hpp>
 #include <igi/render/renderer.hpp>
 #include <igi/shading/brdf_shaders.hpp>
 #include <igi/shading/scalar_shader_adapter.hpp>
+#endif
 
 // Step 1, geometry. An igi::Scene is plain data: meshes (one material each) placed by instances.
 // Here every object is a box given by its centre and half size; faces wind counter-clockwise
@@ -81,12 +86,16 @@ int main(int argc, char** argv) try {
   // Step 4, put it together: backend (Embree, 8-ray packets), the four policies, the settings.
   igi::QmcVplSampler sampler;
   sampler.add_emitter(BallLamp{});
+  igi::RenderSettings settings;  // 640 x 480, 16 VPLs per pixel, 3 x 3 interleaving; all cores
+#if defined(MY_RENDERER_COMPILED)  // the same policies, compiled in igi::compiled at its ISA's width
+  igi::ScalarSurfaceRenderer renderer(scene, settings, MySurface{}, sampler);
+#else
   const igi::ScalarShaderAdapter<MySurface> surface{MySurface{}};
   const igi::StandardBrdf brdf;           // Lambert + glossy + mirror + glass, SIMD
   const igi::DiscontinuityFilter filter;  // smooths the interleaving pattern, keeps edges
-  igi::RenderSettings settings;  // 640 x 480, 16 VPLs per pixel, 3 x 3 interleaving; all cores
   igi::Renderer<igi::EmbreeBackend<8>, igi::ScalarShaderAdapter<MySurface>, igi::StandardBrdf, igi::QmcVplSampler,
                 igi::DiscontinuityFilter> renderer(scene, settings, surface, brdf, sampler, filter);
+#endif
   // Step 5, render (frame 0: the frame index picks the VPL sets) and write the tone-mapped image.
   const igi::Frame frame = renderer.render(camera, 0);
   const char* path = argc > 1 ? argv[1] : "my_renderer.png";

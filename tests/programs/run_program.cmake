@@ -5,6 +5,7 @@
 #   SCENE           a scene file that must exist, else the test is skipped (../shared/scenes missing)
 #   PACKAGE_BINARY  if set: install igi from this build into WORK/prefix, then configure and build
 #                   PACKAGE_SOURCE against it with find_package(igi) (generator GENERATOR)
+#   PACKAGE_ARGS    more arguments for that configure step (-DOPTION=ON)
 #   FIRST           a command run before COMMAND (e.g. a reference render to compare with)
 #   COMMAND         the program and its arguments
 #   EXIT_CODE       the exit status COMMAND must end with (default 0); a non-zero status must come
@@ -45,7 +46,7 @@ endfunction()
 if(NOT EXIT_CODE)
   set(EXIT_CODE 0)
 endif()
-foreach(list FIRST COMMAND EXPECT EXPECT_ERROR COUNT SAME DIFFERENT IMAGES CHECK_ARGS REQUIRE)
+foreach(list FIRST COMMAND EXPECT EXPECT_ERROR COUNT SAME DIFFERENT IMAGES CHECK_ARGS REQUIRE PACKAGE_ARGS)
   string(REPLACE "|" ";" ${list} "${${list}}")
 endforeach()
 foreach(program ${REQUIRE})
@@ -66,7 +67,7 @@ file(MAKE_DIRECTORY ${WORK})
 if(PACKAGE_BINARY)
   run(${CMAKE_COMMAND} --install ${PACKAGE_BINARY} --prefix ${WORK}/prefix)
   run(${CMAKE_COMMAND} -S ${PACKAGE_SOURCE} -B ${WORK}/build -G ${GENERATOR} -DCMAKE_BUILD_TYPE=Release
-      -DCMAKE_PREFIX_PATH=${WORK}/prefix)
+      -DCMAKE_PREFIX_PATH=${WORK}/prefix ${PACKAGE_ARGS})
   run(${CMAKE_COMMAND} --build ${WORK}/build)
 endif()
 if(FIRST)

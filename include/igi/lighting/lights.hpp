@@ -35,7 +35,7 @@ namespace igi {
 
 /// One sampled light particle.
 struct EmissionSample {
-  Vpl vpl;                     ///< The emitter's VPL at `origin`, carrying the emitter's whole power.
+  Vpl vpl{};                   ///< The emitter's VPL at `origin`, carrying the emitter's whole power.
   glm::vec3 origin{0.0f};      ///< Where the particle starts.
   glm::vec3 direction{0.0f, 0.0f, 1.0f};  ///< Unit direction the particle leaves in.
   glm::vec3 flux{0.0f};        ///< Flux the particle carries (W); its expectation is the emitter's power.
@@ -256,9 +256,9 @@ struct AimPoint {
 struct Portals {
   /// For each punctual light of the scene, by its index (empty for all but directional
   /// lights): view points from which a ray towards the light left the scene.
-  std::vector<std::vector<AimPoint>> sunlit;
-  std::vector<AimPoint> sky_points;       ///< View points from which a ray towards the environment left the scene.
-  std::vector<glm::vec3> sky_directions;  ///< Those rays' unit directions, towards the sky.
+  std::vector<std::vector<AimPoint>> sunlit{};
+  std::vector<AimPoint> sky_points{};     ///< View points from which a ray towards the environment left the scene.
+  std::vector<glm::vec3> sky_directions{}; ///< Those rays' unit directions, towards the sky.
   float share = 0.0f;                     ///< Fraction of the particles aimed, in [0, 1).
   /// True if some particle would be aimed.
   bool any() const noexcept {

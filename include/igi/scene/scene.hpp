@@ -23,10 +23,10 @@ namespace igi {
 
 /// A decoded 8-bit RGBA image, decoded once at load time.
 struct Texture {
-  std::string name;                  ///< File name or glTF image name, for messages.
+  std::string name{};                ///< File name or glTF image name, for messages.
   int width = 0;                     ///< Texels per row.
   int height = 0;                    ///< Rows.
-  std::vector<std::uint8_t> texels;  ///< RGBA8, row-major, top row first (glTF's uv origin).
+  std::vector<std::uint8_t> texels{}; ///< RGBA8, row-major, top row first (glTF's uv origin).
   bool srgb = true;                  ///< True if texels are sRGB-encoded (base colour, emission), false if linear (metallic-roughness, normals).
 };
 
@@ -53,26 +53,26 @@ enum class AlphaMode { opaque, mask, blend };
 
 /// A glTF metallic-roughness material with the extensions igi renders.
 struct Material {
-  std::string name;                                    ///< For messages.
+  std::string name{};                                  ///< For messages.
   glm::vec4 base_color{1.0f};                          ///< Linear RGBA factor.
   int base_color_texture = -1;                         ///< Index into Scene::textures, or -1.
   int base_color_uv_set = 0;                           ///< TEXCOORD_n used by that texture.
-  UvTransform base_color_transform;                    ///< That texture's KHR_texture_transform (also the alpha cut-outs').
+  UvTransform base_color_transform{};                  ///< That texture's KHR_texture_transform (also the alpha cut-outs').
   float metallic = 1.0f;                               ///< glTF default 1.
   float roughness = 1.0f;                              ///< glTF default 1.
   /// glTF metallicRoughnessTexture: index into Scene::textures (linear, not sRGB), or -1. Its
   /// green channel scales `roughness`, its blue channel `metallic`.
   int metallic_roughness_texture = -1;
-  UvTransform metallic_roughness_transform;  ///< That texture's KHR_texture_transform.
+  UvTransform metallic_roughness_transform{}; ///< That texture's KHR_texture_transform.
   /// glTF normalTexture: index into Scene::textures (linear), or -1. Tangent-space normals: x
   /// along increasing u, y along decreasing v (the image's up), z along the shading normal.
   int normal_texture = -1;
   /// glTF normalTexture.scale: scales the map's x and y (0 leaves the normal as it is).
   float normal_scale = 1.0f;
-  UvTransform normal_transform;  ///< That texture's KHR_texture_transform (its tangent frame follows it).
+  UvTransform normal_transform{}; ///< That texture's KHR_texture_transform (its tangent frame follows it).
   glm::vec3 emission{0.0f};                            ///< Emitted radiance: factor x KHR_materials_emissive_strength.
   int emissive_texture = -1;                           ///< Index into Scene::textures, or -1.
-  UvTransform emissive_transform;                      ///< That texture's KHR_texture_transform.
+  UvTransform emissive_transform{};                    ///< That texture's KHR_texture_transform.
   float transmission = 0.0f;                           ///< KHR_materials_transmission factor.
   float ior = 1.5f;                                    ///< KHR_materials_ior (glTF default 1.5).
   /// KHR_materials_volume thicknessFactor: 0 (glTF's default, and without the extension) makes
@@ -90,22 +90,22 @@ struct Material {
   float specular = 1.0f;
   /// specularTexture: index into Scene::textures (linear; its alpha scales `specular`), or -1.
   int specular_texture = -1;
-  UvTransform specular_transform;        ///< That texture's KHR_texture_transform.
+  UvTransform specular_transform{};      ///< That texture's KHR_texture_transform.
   glm::vec3 specular_color{1.0f};        ///< specularColorFactor: tints the normal-incidence reflectance (linear).
   /// specularColorTexture: index into Scene::textures (sRGB; its rgb scales `specular_color`), or -1.
   int specular_color_texture = -1;
-  UvTransform specular_color_transform;  ///< That texture's KHR_texture_transform.
+  UvTransform specular_color_transform{}; ///< That texture's KHR_texture_transform.
   /// KHR_materials_clearcoat clearcoatFactor: the weight of a clear, colourless dielectric coat
   /// (ior 1.5) over the whole material, lacquer or varnish; 0 (glTF's default) is no coat.
   float clearcoat = 0.0f;
   /// clearcoatTexture: index into Scene::textures (linear; its red channel scales `clearcoat`), or -1.
   int clearcoat_texture = -1;
-  UvTransform clearcoat_transform;    ///< That texture's KHR_texture_transform.
+  UvTransform clearcoat_transform{};  ///< That texture's KHR_texture_transform.
   float clearcoat_roughness = 0.0f;   ///< clearcoatRoughnessFactor: the coat's roughness (glTF default 0).
   /// clearcoatRoughnessTexture: index into Scene::textures (linear; its green channel scales
   /// `clearcoat_roughness`), or -1.
   int clearcoat_roughness_texture = -1;
-  UvTransform clearcoat_roughness_transform;  ///< That texture's KHR_texture_transform.
+  UvTransform clearcoat_roughness_transform{}; ///< That texture's KHR_texture_transform.
   AlphaMode alpha_mode = AlphaMode::opaque;            ///< glTF alphaMode.
   float alpha_cutoff = 0.5f;                           ///< glTF default 0.5.
   bool double_sided = false;                           ///< glTF doubleSided.
@@ -130,22 +130,22 @@ struct Material {
 
 /// An indexed triangle mesh in object space with one material (one glTF primitive).
 struct Mesh {
-  std::string name;                        ///< glTF mesh name (with primitive index if several).
-  std::vector<glm::vec3> positions;        ///< Vertex positions.
-  std::vector<glm::vec3> normals;          ///< Unit vertex normals (computed when the file has none).
-  std::vector<glm::vec2> uvs;              ///< TEXCOORD_0, empty if absent.
-  std::vector<glm::vec2> uvs1;             ///< TEXCOORD_1, empty if absent (for materials with uv set 1).
+  std::string name{};                      ///< glTF mesh name (with primitive index if several).
+  std::vector<glm::vec3> positions{};      ///< Vertex positions.
+  std::vector<glm::vec3> normals{};        ///< Unit vertex normals (computed when the file has none).
+  std::vector<glm::vec2> uvs{};            ///< TEXCOORD_0, empty if absent.
+  std::vector<glm::vec2> uvs1{};           ///< TEXCOORD_1, empty if absent (for materials with uv set 1).
   /// glTF TANGENT, empty if absent: a unit tangent along increasing u in xyz and in w the sign (+-1)
   /// of the bitangent cross(normal, tangent), which runs along increasing v's image +y of a normal
   /// map; all zero for a vertex whose tangent was unusable (normal maps then take the uv frame).
-  std::vector<glm::vec4> tangents;
-  std::vector<glm::uvec3> triangles;       ///< Vertex indices, counter-clockwise front faces.
+  std::vector<glm::vec4> tangents{};
+  std::vector<glm::uvec3> triangles{};     ///< Vertex indices, counter-clockwise front faces.
   int material = -1;                       ///< Index into Scene::materials, or -1 for the default.
 };
 
 /// A placement of a mesh in the world.
 struct Instance {
-  std::string name;                  ///< glTF node name.
+  std::string name{};                ///< glTF node name.
   int mesh = 0;                      ///< Index into Scene::meshes.
   glm::mat4 transform{1.0f};         ///< Object to world.
 };
@@ -156,7 +156,7 @@ enum class PunctualKind { point, spot, directional };
 /// A KHR_lights_punctual light in world space. Photometric glTF units are read as radiometric:
 /// point and spot intensity is radiant intensity (W/sr), directional intensity is irradiance (W/m^2).
 struct PunctualLight {
-  std::string name;                    ///< glTF light name.
+  std::string name{};                  ///< glTF light name.
   PunctualKind kind = PunctualKind::point;  ///< point, spot or directional.
   glm::vec3 color{1.0f};               ///< Linear RGB.
   float intensity = 1.0f;              ///< Scale of color.
@@ -171,7 +171,7 @@ struct PunctualLight {
 
 /// A perspective pinhole camera; looks down its local -Z with +Y up, as in glTF.
 struct Camera {
-  std::string name;                  ///< glTF camera or node name.
+  std::string name{};                ///< glTF camera or node name.
   glm::mat4 camera_to_world{1.0f};   ///< Rigid transform of the camera.
   float yfov = 0.6860488f;           ///< Vertical field of view, radians (39.3077 deg, Cornell's).
   float aspect = 0.0f;               ///< The file's aspectRatio (0: none); frames keep square pixels with yfov, whatever it is.
@@ -247,23 +247,23 @@ struct AnimationChannel {
   int node = -1;                                     ///< Index into SceneAnimations::nodes.
   AnimatedProperty property = AnimatedProperty::translation;  ///< What it drives.
   Interpolation interpolation = Interpolation::linear;        ///< How it interpolates.
-  std::vector<float> times;                          ///< Key times in seconds, strictly increasing.
+  std::vector<float> times{};                        ///< Key times in seconds, strictly increasing.
   /// Key values, `components` floats per element: one element per key, or three per key with
   /// cubic_spline (in-tangent, value, out-tangent). Rotations are quaternions x, y, z, w.
-  std::vector<float> values;
+  std::vector<float> values{};
   int components = 3;                                ///< 3 (translation, scale), 4 (rotation) or the morph target count.
 };
 
 /// A glTF animation: channels played together.
 struct NodeAnimation {
-  std::string name;                        ///< glTF name, or "animation N".
-  std::vector<AnimationChannel> channels;  ///< Its channels.
+  std::string name{};                      ///< glTF name, or "animation N".
+  std::vector<AnimationChannel> channels{}; ///< Its channels.
   float duration = 0.0f;                   ///< Time of its last key over all channels (it starts at time 0).
 };
 
 /// A glTF node as animations see it: its rest transform and place in the hierarchy.
 struct SceneNode {
-  std::string name;                        ///< glTF name, or "node N".
+  std::string name{};                      ///< glTF name, or "node N".
   int parent = -1;                         ///< Index of its parent, -1 for a root.
   glm::vec3 translation{0.0f};             ///< Rest translation.
   glm::vec4 rotation{0.0f, 0.0f, 0.0f, 1.0f};  ///< Rest rotation: a unit quaternion x, y, z, w, as glTF stores it.
@@ -271,22 +271,22 @@ struct SceneNode {
   /// True if the file gave a `matrix` (then `matrix` is the local transform and no channel may move it).
   bool uses_matrix = false;
   glm::mat4 matrix{1.0f};                  ///< Local transform when uses_matrix.
-  std::vector<float> weights;              ///< Rest morph weights (node.weights, else its mesh's).
+  std::vector<float> weights{};            ///< Rest morph weights (node.weights, else its mesh's).
 };
 
 /// A glTF skin: the joints whose motion deforms a mesh.
 struct Skin {
-  std::string name;                              ///< glTF name, or "skin N".
-  std::vector<int> joints;                       ///< Joint nodes; JOINTS_n values index this list.
-  std::vector<glm::mat4> inverse_bind_matrices;  ///< Per joint: mesh space to the joint's space at bind time.
+  std::string name{};                            ///< glTF name, or "skin N".
+  std::vector<int> joints{};                     ///< Joint nodes; JOINTS_n values index this list.
+  std::vector<glm::mat4> inverse_bind_matrices{}; ///< Per joint: mesh space to the joint's space at bind time.
   int skeleton = -1;                             ///< The skeleton's root node (informative), -1 if unnamed.
 };
 
 /// A morph target's displacements of a mesh's vertices (empty where the target leaves the attribute alone).
 struct MorphTarget {
-  std::vector<glm::vec3> positions;  ///< POSITION displacement per vertex.
-  std::vector<glm::vec3> normals;    ///< NORMAL displacement per vertex.
-  std::vector<glm::vec3> tangents;   ///< TANGENT xyz displacement per vertex.
+  std::vector<glm::vec3> positions{}; ///< POSITION displacement per vertex.
+  std::vector<glm::vec3> normals{};  ///< NORMAL displacement per vertex.
+  std::vector<glm::vec3> tangents{}; ///< TANGENT xyz displacement per vertex.
 };
 
 /// A mesh that a skin or morph targets deform: its undeformed vertices and what deforms them.
@@ -296,27 +296,27 @@ struct DeformableMesh {
   int instance = -1;  ///< Index into Scene::instances of its one instance.
   int node = -1;      ///< The node that holds it (its morph weights; with a skin, its transform is ignored).
   int skin = -1;      ///< Index into SceneAnimations::skins, -1 if only morphed.
-  std::vector<glm::vec3> rest_positions;  ///< Mesh-space positions before morphing and skinning.
-  std::vector<glm::vec3> rest_normals;    ///< Unit normals before deformation.
-  std::vector<glm::vec4> rest_tangents;   ///< Tangents before deformation (empty if the mesh has none).
+  std::vector<glm::vec3> rest_positions{}; ///< Mesh-space positions before morphing and skinning.
+  std::vector<glm::vec3> rest_normals{};  ///< Unit normals before deformation.
+  std::vector<glm::vec4> rest_tangents{}; ///< Tangents before deformation (empty if the mesh has none).
   /// Joint influences, `influence_sets` entries of four per vertex (JOINTS_0/WEIGHTS_0, then _1):
   /// entry v * influence_sets + s. Empty without a skin.
-  std::vector<glm::uvec4> joints;
-  std::vector<glm::vec4> weights;  ///< Weights matching `joints`, normalized to sum 1 per vertex.
+  std::vector<glm::uvec4> joints{};
+  std::vector<glm::vec4> weights{}; ///< Weights matching `joints`, normalized to sum 1 per vertex.
   int influence_sets = 0;          ///< 1 or 2 with a skin, 0 without.
-  std::vector<MorphTarget> targets;  ///< Morph targets, in the file's order.
+  std::vector<MorphTarget> targets{}; ///< Morph targets, in the file's order.
 };
 
 /// Everything about a scene's motion that its file gives (empty for scenes built in code).
 struct SceneAnimations {
-  std::vector<SceneNode> nodes;           ///< Every node of the file, by glTF index.
-  std::vector<int> node_order;            ///< Nodes of the rendered scene, each after its parent.
-  std::vector<NodeAnimation> animations;  ///< The file's animations.
-  std::vector<Skin> skins;                ///< The file's skins.
-  std::vector<DeformableMesh> deformables;  ///< Skinned or morphed meshes.
-  std::vector<int> instance_nodes;        ///< Per Scene::instances entry: the node placing it (-1: none).
-  std::vector<int> camera_nodes;          ///< Per Scene::cameras entry: its node (-1: none).
-  std::vector<int> light_nodes;           ///< Per Scene::lights entry: its node (-1: none).
+  std::vector<SceneNode> nodes{};         ///< Every node of the file, by glTF index.
+  std::vector<int> node_order{};          ///< Nodes of the rendered scene, each after its parent.
+  std::vector<NodeAnimation> animations{}; ///< The file's animations.
+  std::vector<Skin> skins{};              ///< The file's skins.
+  std::vector<DeformableMesh> deformables{}; ///< Skinned or morphed meshes.
+  std::vector<int> instance_nodes{};      ///< Per Scene::instances entry: the node placing it (-1: none).
+  std::vector<int> camera_nodes{};        ///< Per Scene::cameras entry: its node (-1: none).
+  std::vector<int> light_nodes{};         ///< Per Scene::lights entry: its node (-1: none).
 
   /// True if nothing ever moves: no animation (deformables at rest are already in the scene).
   bool empty() const noexcept { return animations.empty(); }
@@ -324,17 +324,17 @@ struct SceneAnimations {
 
 /// Everything there is to render.
 struct Scene {
-  std::string name;                          ///< File name or "cornell".
-  std::vector<Mesh> meshes;                  ///< Geometry in object space.
-  std::vector<Instance> instances;           ///< Placements of meshes.
-  std::vector<Material> materials;           ///< Referenced by meshes.
-  std::vector<Texture> textures;             ///< Referenced by materials.
-  SceneAnimations animations;                ///< The file's nodes, animations, skins and deformed meshes (empty for built-in scenes).
-  std::vector<PunctualLight> lights;         ///< KHR_lights_punctual lights.
-  std::vector<Camera> cameras;               ///< Cameras by name, in file order.
+  std::string name{};                        ///< File name or "cornell".
+  std::vector<Mesh> meshes{};                ///< Geometry in object space.
+  std::vector<Instance> instances{};         ///< Placements of meshes.
+  std::vector<Material> materials{};         ///< Referenced by meshes.
+  std::vector<Texture> textures{};           ///< Referenced by materials.
+  SceneAnimations animations{};              ///< The file's nodes, animations, skins and deformed meshes (empty for built-in scenes).
+  std::vector<PunctualLight> lights{};       ///< KHR_lights_punctual lights.
+  std::vector<Camera> cameras{};             ///< Cameras by name, in file order.
   /// Light from infinitely far away (a sky), seen by rays that leave the scene; none if null.
   /// Shared, immutable: copies of a scene share one map and its sampling distribution.
-  std::shared_ptr<const Environment> environment;
+  std::shared_ptr<const Environment> environment{};
 
   /// Triangles as rendered: every instance counts its mesh's triangles.
   std::size_t triangle_count() const noexcept {

@@ -65,6 +65,7 @@ template <class T, class Mask>
   else
     return stdx::__proposed::static_simd_cast<target>(mask);
 }
+
 }  // namespace detail
 
 /// The packet width W of one native register of floats of the build's ISA: 4 (SSE), 8 (AVX2) or
@@ -360,15 +361,54 @@ template <class T, int W>
 [[gnu::always_inline]] inline lanes<T, W> abs(const lanes<T, W>& a) noexcept {
   return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return stdx::abs(x); });
 }
+namespace detail {
+// GCC 12's AVX-512 intrinsics that take no merge source (_mm512_sqrt_ps, _mm512_roundscale_ps,
+// _mm512_i32gather_ps, ...) pass the builtin one from _mm512_undefined_ps(), a deliberately
+// uninitialised variable that their all-lanes mask never reads, and -Wall reports it at every
+// inlined call (-Wmaybe-uninitialized and -Wuninitialized; GCC bug 105593, fixed in GCC 13).
+// libstdc++'s simd sqrt and floor call two of them. Their zero-masking forms with every lane
+// selected compile to the same unmasked instruction but pass a zero source, so igi uses those on
+// 16-float registers. (libstdc++'s integer division and its exp, log, sin, cos and pow call more,
+// in int/double conversions igi cannot choose; GCC 12 still reports those under AVX-512.)
+#if defined(__AVX512F__)
+/// Every lane of a 16-lane register: the mask that makes a zero-masking AVX-512 form unmasked.
+inline constexpr __mmask16 every_lane_of_16 = 0xFFFF;
+/// True for a chunk that is one 512-bit register.
+template <class Chunk>
+inline constexpr bool is_512_bit = sizeof(Chunk) == sizeof(__m512);
+#endif
+/// Square root of one float chunk.
+template <class Chunk>
+[[gnu::always_inline]] inline Chunk sqrt_chunk(const Chunk& x) noexcept {
+#if defined(__AVX512F__)
+  if constexpr (is_512_bit<Chunk>)
+    return Chunk(_mm512_maskz_sqrt_ps(every_lane_of_16, static_cast<__m512>(x)));
+  else
+#endif
+    return stdx::sqrt(x);
+}
+/// Floor of one float chunk.
+template <class Chunk>
+[[gnu::always_inline]] inline Chunk floor_chunk(const Chunk& x) noexcept {
+#if defined(__AVX512F__)
+  // Round towards -infinity without raising the inexact exception, as libstdc++'s floor does.
+  if constexpr (is_512_bit<Chunk>)
+    return Chunk(_mm512_maskz_roundscale_ps(every_lane_of_16, static_cast<__m512>(x), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC));
+  else
+#endif
+    return stdx::floor(x);
+}
+}  // namespace detail
+
 /// Lane-wise square root.
 template <int W>
 [[gnu::always_inline]] inline vfloat<W> sqrt(const vfloat<W>& a) noexcept {
-  return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return stdx::sqrt(x); });
+  return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return detail::sqrt_chunk(x); });
 }
 /// Lane-wise floor.
 template <int W>
 [[gnu::always_inline]] inline vfloat<W> floor(const vfloat<W>& a) noexcept {
-  return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return stdx::floor(x); });
+  return lanewise(a, [](const auto& x) __attribute__((always_inline)) { return detail::floor_chunk(x); });
 }
 /// Lane-wise e^x.
 template <int W>
@@ -484,21 +524,23 @@ template <class T, int W>
   requires(sizeof(T) == 4)
 [[gnu::always_inline]] inline lanes<T, W> gather_every(const T* base, const vint<W>& index) noexcept {
   using chunk_type = typename lanes<T, W>::chunk_type;
-  constexpr int size = lanes<T, W>::chunk_size;
   lanes<T, W> result;
   for (int c = 0; c < lanes<T, W>::chunks; ++c) {
 #if defined(__AVX512F__)
-    if constexpr (size == 16) {
+    if constexpr (lanes<T, W>::chunk_size == 16) {
+      // The merging forms from a zero register with every lane gathered: the plain forms pass
+      // GCC 12's undefined source (see detail::sqrt_chunk).
       const __m512i at = static_cast<__m512i>(index.chunk(c));
       if constexpr (std::is_same_v<T, float>)
-        result.chunk(c) = chunk_type(_mm512_i32gather_ps(at, base, 4));
+        result.chunk(c) = chunk_type(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), detail::every_lane_of_16, at, base, 4));
       else
-        result.chunk(c) = chunk_type(__m512i(_mm512_i32gather_epi32(at, base, 4)));
+        result.chunk(c) = chunk_type(
+            __m512i(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), detail::every_lane_of_16, at, base, 4)));
       continue;
     }
 #endif
 #if defined(__AVX2__)
-    if constexpr (size == 8) {
+    if constexpr (lanes<T, W>::chunk_size == 8) {
       const __m256i at = static_cast<__m256i>(index.chunk(c));
       if constexpr (std::is_same_v<T, float>)
         result.chunk(c) = chunk_type(_mm256_i32gather_ps(base, at, 4));
@@ -506,7 +548,7 @@ template <class T, int W>
         result.chunk(c) = chunk_type(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), at, 4));
       continue;
     }
-    if constexpr (size == 4) {
+    if constexpr (lanes<T, W>::chunk_size == 4) {
       const __m128i at = static_cast<__m128i>(index.chunk(c));
       if constexpr (std::is_same_v<T, float>)
         result.chunk(c) = chunk_type(_mm_i32gather_ps(base, at, 4));

@@ -314,7 +314,7 @@ class SaarcorBackend {
     SaarcorStats count;
     count.packets = 1;
     std::array<glm::vec3, N> origin, direction;
-    std::array<float, N> best;       // tfar, shrinking to the closest hit so far.
+    std::array<float, N> best{};     // tfar, shrinking to the closest hit so far (zero on inactive lanes, never read).
     std::array<TriangleHit, N> found;
     std::array<const WorldTriangle*, N> hit_triangle{};
     vmask<N> blocked;
@@ -364,7 +364,9 @@ class SaarcorBackend {
         const int axis = node.axis();
         const float split = node.value;
         LaneBits below = 0, above = 0;
-        std::array<float, N> below_t0, below_t1, above_t0, above_t1;
+        // Zeroed, not left indeterminate: only the lanes of `below` and `above` are written, but
+        // the arrays are copied whole onto the stack and into t0 and t1.
+        std::array<float, N> below_t0{}, below_t1{}, above_t0{}, above_t1{};
         bool first_ray = true, below_first = true;
         for (LaneBits bits = active; bits; bits &= bits - 1) {
           const int lane = std::countr_zero(bits);
