@@ -4,10 +4,11 @@
 //   relmse      relMSE against the reference, less the reference's own noise (the reference is
 //               the mean of two half-budget seeds, so its noise is a quarter of their relMSE);
 //   mean_ratio  the frame's mean over the reference's (the pulsing a user sees is its spread);
-//   flicker     the frame-to-frame change of each pixel after reprojecting the previous frame
-//               with the camera motion (pixel-centre hits of both frames that land on the same
-//               surface), summed over those pixels, over the summed reference values, less the
-//               same quantity of the reference frames: the change the method adds;
+//   flicker     how far each pixel's frame-to-frame change departs from the reference's (the
+//               previous frame reprojected with the camera motion: pixel-centre hits of both
+//               frames on the same surface), summed over those pixels, over the summed reference
+//               values: the change the method adds, flicker_floor the part of it the references'
+//               own noise explains (half the two half-budget seeds' difference of changes);
 //   ms          the frame's wall-clock time.
 // Prints one JSON object; bench/walkthrough/charts.py draws it. References are cached in --work.
 //
@@ -16,6 +17,7 @@
 //   igi-walkthrough --write-paths DIR    (writes the camera paths the walks follow)
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -232,23 +234,35 @@ double image_mean(const Image& image) {
   return sum / (3.0 * double(image.pixels.size()));
 }
 
-/// Summed frame-to-frame change over the reprojected pixels, and the summed current values there.
-std::pair<double, double> change(const Image& now, const Image& before, const std::vector<int>& found) {
-  double changed = 0.0, value = 0.0;
+/// Summed departure of `now` - `before` (reprojected by `found`) from `reference_now` -
+/// `reference_before`, over the reprojected pixels, and the summed reference values there.
+std::pair<double, double> departure(const Image& now, const Image& before, const Image& reference_now,
+                                    const Image& reference_before, const std::vector<int>& found) {
+  double departed = 0.0, value = 0.0;
   for (std::size_t p = 0; p < found.size(); ++p) {
     if (found[p] < 0) continue;
-    const glm::vec3 a = now.pixels[p], b = before.pixels[std::size_t(found[p])];
-    changed += std::abs(double(a.x) - b.x) + std::abs(double(a.y) - b.y) + std::abs(double(a.z) - b.z);
-    value += double(a.x) + double(a.y) + double(a.z);
+    const std::size_t q = std::size_t(found[p]);
+    const glm::dvec3 change = glm::dvec3(now.pixels[p]) - glm::dvec3(before.pixels[q]);
+    const glm::dvec3 expected = glm::dvec3(reference_now.pixels[p]) - glm::dvec3(reference_before.pixels[q]);
+    const glm::dvec3 away = glm::abs(change - expected);
+    departed += away.x + away.y + away.z;
+    value += double(reference_now.pixels[p].x) + double(reference_now.pixels[p].y) + double(reference_now.pixels[p].z);
   }
-  return {changed, value};
+  return {departed, value};
 }
 
-/// The path-traced reference of every frame (the mean of seeds 1 and 2 at half the budget each,
-/// cached in `work`) and each one's noise (a quarter of the two seeds' relMSE).
-std::vector<std::pair<Image, double>> references(const WalkFrames& frames, const Walk& walk, const Options& options,
+/// A frame's path-traced reference: the mean of two half-budget seeds, the seeds themselves, and
+/// the mean's noise (a quarter of the seeds' relMSE).
+struct Reference {
+  Image mean;                 ///< The reference.
+  std::array<Image, 2> half;  ///< Seeds 1 and 2 at half the samples each.
+  double noise = 0.0;         ///< relMSE the mean's own noise adds to a comparison with it.
+};
+
+/// The path-traced reference of every frame (seeds 1 and 2 at half the budget each, cached in `work`).
+std::vector<Reference> references(const WalkFrames& frames, const Walk& walk, const Options& options,
                                                  const ImageSize& size, const std::filesystem::path& work) {
-  std::vector<std::pair<Image, double>> result;
+  std::vector<Reference> result;
   for (std::size_t f = 0; f < frames.changes.size(); ++f) {
     std::vector<Image> halves;
     for (std::uint32_t seed : {1u, 2u}) {
@@ -272,9 +286,10 @@ std::vector<std::pair<Image, double>> references(const WalkFrames& frames, const
       halves.push_back(tracer.render(frames.changes[f].camera, size.width, size.height, options.reference_spp / 2));
       write_image(file, halves.back());
     }
-    Image mean = halves[0];
-    for (std::size_t p = 0; p < mean.pixels.size(); ++p) mean.pixels[p] = 0.5f * (halves[0].pixels[p] + halves[1].pixels[p]);
-    result.emplace_back(std::move(mean), 0.25 * relmse(halves[0], halves[1]));
+    Reference reference{halves[0], {halves[0], halves[1]}, 0.25 * relmse(halves[0], halves[1])};
+    for (std::size_t p = 0; p < reference.mean.pixels.size(); ++p)
+      reference.mean.pixels[p] = 0.5f * (halves[0].pixels[p] + halves[1].pixels[p]);
+    result.push_back(std::move(reference));
   }
   return result;
 }
@@ -302,7 +317,7 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
                   const std::filesystem::path& paths, const std::filesystem::path& work) {
   const WalkFrames frames = walk_frames(walk, options, paths);
   std::cerr << "igi-walkthrough: " << walk.name << ": references (" << options.reference_spp << " spp)\n";
-  const std::vector<std::pair<Image, double>> reference = references(frames, walk, options, size, work);
+  const std::vector<Reference> reference = references(frames, walk, options, size, work);
   // Pixel-centre hits of every frame, in the frame's own scene.
   std::vector<std::vector<glm::vec3>> hits;
   {
@@ -316,11 +331,13 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
     }
   }
   std::vector<std::vector<int>> found(frames.changes.size());
-  std::vector<double> reference_change(frames.changes.size(), 0.0);
+  std::vector<double> noise_floor(frames.changes.size(), 0.0);
   for (std::size_t f = 1; f < frames.changes.size(); ++f) {
     found[f] = reprojection(hits[f], hits[f - 1], frames.changes[f].camera, frames.changes[f - 1].camera, size.width, size.height);
-    const auto [changed, value] = change(reference[f].first, reference[f - 1].first, found[f]);
-    reference_change[f] = value > 0.0 ? changed / value : 0.0;
+    // The mean's change carries half the noise of the seeds' changes' difference.
+    const auto [departed, value] = departure(reference[f].half[0], reference[f - 1].half[0], reference[f].half[1],
+                                             reference[f - 1].half[1], found[f]);
+    noise_floor[f] = value > 0.0 ? 0.5 * departed / value : 0.0;
   }
   std::vector<StatsJson> measured;
   for (const Method& method : methods) {
@@ -338,20 +355,21 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
     Renderer<Backend, GltfMaterialShader, StandardBrdf, ProgramVplSampler, FilterChoice> renderer(scene, settings, surface,
                                                                                                brdf, sampler, filter);
     std::vector<StatsJson> per_frame;
-    std::vector<double> ratios, errors, flickers, times;
+    std::vector<double> ratios, errors, flickers, floors, times;
     Image previous;
     for (std::size_t f = 0; f < frames.changes.size(); ++f) {
       const Camera camera = renderer.apply(frames.changes[f]);
       const Frame frame = renderer.render(camera, std::uint32_t(f));
-      const double error = relmse(frame.hdr, reference[f].first) - reference[f].second;
-      const double ratio = image_mean(frame.hdr) / image_mean(reference[f].first);
+      const double error = relmse(frame.hdr, reference[f].mean) - reference[f].noise;
+      const double ratio = image_mean(frame.hdr) / image_mean(reference[f].mean);
       StatsJson row;
       row.set("frame", int(f)).set("ms", frame.statistics.milliseconds).set("relmse", error).set("mean_ratio", ratio);
       if (f > 0) {
-        const auto [changed, value] = change(frame.hdr, previous, found[f]);
-        const double flicker = (value > 0.0 ? changed / value : 0.0) - reference_change[f];
-        row.set("flicker", flicker).set("reference_flicker", reference_change[f]);
+        const auto [departed, value] = departure(frame.hdr, previous, reference[f].mean, reference[f - 1].mean, found[f]);
+        const double flicker = value > 0.0 ? departed / value : 0.0;
+        row.set("flicker", flicker).set("flicker_floor", noise_floor[f]);
         flickers.push_back(flicker);
+        floors.push_back(noise_floor[f]);
       }
       per_frame.push_back(row);
       ratios.push_back(ratio);
@@ -365,6 +383,7 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
         .set("relmse_median", median(errors))
         .set("relmse_worst", *std::max_element(errors.begin(), errors.end()))
         .set("flicker_median", median(flickers))
+        .set("flicker_floor_median", median(floors))
         .set("ms_median", median(times))
         .set("frames", per_frame);
     measured.push_back(result);

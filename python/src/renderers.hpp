@@ -23,12 +23,12 @@ namespace igi::python {
 struct RenderedFrame {
   int width = 0;                 ///< Pixels per row.
   int height = 0;                ///< Rows.
-  Image hdr;                     ///< Linear radiance, rows from the top.
-  Rgb8Image rgb8;                ///< Tone-mapped sRGB.
-  std::vector<glm::vec3> albedo; ///< Diffuse albedo of the first hit, row-major (empty where not rendered).
-  std::vector<glm::vec3> normal; ///< Unit shading normal of the first hit, zero on a miss.
-  std::vector<float> depth;      ///< Distance along the primary ray to the first hit, 0 on a miss.
-  std::string statistics;        ///< igi-render's --stats json object, as JSON text.
+  Image hdr{};                     ///< Linear radiance, rows from the top.
+  Rgb8Image rgb8{};                ///< Tone-mapped sRGB.
+  std::vector<glm::vec3> albedo{}; ///< Diffuse albedo of the first hit, row-major (empty where not rendered).
+  std::vector<glm::vec3> normal{}; ///< Unit shading normal of the first hit, zero on a miss.
+  std::vector<float> depth{};      ///< Distance along the primary ray to the first hit, 0 on a miss.
+  std::string statistics{};        ///< igi-render's --stats json object, as JSON text.
 };
 
 /// A scene being rendered with igi-render's options by one integrator over one backend type. The
