@@ -12,4 +12,9 @@ shift 2
 mkdir -p "$work" bench/results
 python3 bench/scenes/forest.py 200 "$work" >/dev/null
 "$build/bench/walkthrough/igi-walkthrough" --work "$work" --forest "$work/forest_200.gltf" "$@" > bench/results/walkthrough.json
-python3 bench/walkthrough/charts.py bench/results/walkthrough.json bench/results
+# Charts need matplotlib: Debian's python3-matplotlib (scripts/chart_python.sh installs it when missing).
+if python="$(bash scripts/chart_python.sh)"; then
+  "$python" bench/walkthrough/charts.py bench/results/walkthrough.json bench/results
+else
+  echo "run.sh: no python3-matplotlib: the JSON is in bench/results/walkthrough.json, no charts"
+fi
