@@ -27,7 +27,10 @@ option(IGI_WARNINGS_AS_ERRORS "Compile igi's own targets with -Werror" OFF)
 function(igi_warnings target)
   # Not errors, still printed: GCC 12's -Wmaybe-uninitialized and -Wuninitialized inside its own
   # AVX-512 header, where libstdc++'s simd integer division and exp, log, sin, cos and pow inline
-  # intrinsics with a deliberately undefined source (see igi/simd/lanes.hpp, detail::sqrt_chunk).
+  # intrinsics with a deliberately undefined source (see igi/simd/lanes.hpp, detail::sqrt_chunk);
+  # and the other diagnostics GCC derives from what it inlined (array bounds, string operations,
+  # restrict, freeing), which -march=native changes from one CPU to the next: a CI machine of
+  # another kind must not fail on one this machine never showed.
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wno-psabi
-    "$<$<BOOL:${IGI_WARNINGS_AS_ERRORS}>:-Werror;-Wno-error=maybe-uninitialized;-Wno-error=uninitialized>")
+    "$<$<BOOL:${IGI_WARNINGS_AS_ERRORS}>:-Werror;-Wno-error=maybe-uninitialized;-Wno-error=uninitialized;-Wno-error=array-bounds;-Wno-error=stringop-overflow;-Wno-error=stringop-overread;-Wno-error=restrict;-Wno-error=free-nonheap-object>")
 endfunction()
