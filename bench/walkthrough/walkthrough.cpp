@@ -425,6 +425,13 @@ int main(int argc, char** argv) {
     for (const Method& method : all_methods)
       if (method_names.empty() || std::find(method_names.begin(), method_names.end(), method.name) != method_names.end())
         methods.push_back(method);
+    for (const std::string& name : method_names)
+      if (std::none_of(all_methods.begin(), all_methods.end(), [&](const Method& m) { return m.name == name; }))
+        throw UsageError("--methods: no method '" + name + "' (default, temporal 8, importance)");
+    const std::vector<Walk> known = all_walks();
+    for (const std::string& name : walk_names)
+      if (std::none_of(known.begin(), known.end(), [&](const Walk& w) { return w.name == name; }))
+        throw UsageError("--walks: no walk '" + name + "' (window, blinds, sponza_lit, forest, window_light, cornell_object)");
     std::vector<StatsJson> walks;
     for (const Walk& walk : all_walks()) {
       if (!walk_names.empty() && std::find(walk_names.begin(), walk_names.end(), walk.name) == walk_names.end()) continue;
