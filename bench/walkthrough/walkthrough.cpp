@@ -145,21 +145,22 @@ struct Method {
   int temporal_frames;          ///< --temporal.
 };
 
+/// The methods measured: igi-render's defaults, temporal reuse over 8 frames, view-importance VPLs.
 const std::vector<Method> all_methods = {{"default", "qmc", 0}, {"temporal 8", "qmc", 8}, {"importance", "importance", 0}};
 
 /// Everything the command line decides.
 struct Options {
-  std::string work;
-  std::string scenes = IGI_SCENES_DIR;
-  std::string forest;
-  std::string walks;
-  std::string methods;
-  std::string size = "160x120";
-  std::string write_paths;
-  int frames = 32;
-  int reference_spp = 256;
-  int threads = 2;
-  double fps = 8.0;
+  std::string work;                    ///< Folder of the cached references.
+  std::string scenes = IGI_SCENES_DIR; ///< Folder of the shared scenes.
+  std::string forest;                  ///< The outdoor scene's file (bench/scenes/forest.py), or empty.
+  std::string walks;                   ///< Walks to measure, comma-separated; empty: all.
+  std::string methods;                 ///< Methods to measure, comma-separated; empty: all.
+  std::string size = "160x120";        ///< Image size as typed.
+  std::string write_paths;             ///< With a folder: write the camera paths there and stop.
+  int frames = 32;                     ///< Frames per walk.
+  int reference_spp = 256;             ///< Path-traced samples per pixel of each reference frame.
+  int threads = 2;                     ///< Threads (0: all cores).
+  double fps = 8.0;                    ///< Frames per second along the camera paths.
 };
 
 /// The frames of a walk: its scene as loaded and each frame's changes.
@@ -168,6 +169,7 @@ struct WalkFrames {
   std::vector<SceneChanges> changes;  ///< Per frame.
 };
 
+/// The scene of `walk` and the changes of each of its frames (camera paths read from `paths`).
 WalkFrames walk_frames(const Walk& walk, const Options& options, const std::filesystem::path& paths) {
   SceneOptions scene_options;
   if (walk.scene == "sponza")
