@@ -172,7 +172,7 @@ class PythonRenderer {
       : options_(options_from(keywords)), scene_(std::make_shared<Scene>(*source.scene)) {
     programs::light_scene(*scene_, options_);
     camera_ = programs::choose_camera(*scene_, options_);
-    camera_index_ = camera_index(options_.camera);
+    camera_index_ = programs::chosen_camera_index(*scene_, options_);
     // One time of the file's animation or camera path: the scene is posed before the backend is
     // built, as igi-render does.
     programs::pose_for_play(*scene_, camera_, options_, camera_index_);
@@ -257,12 +257,6 @@ class PythonRenderer {
     const Camera* found = find_camera(*scene_, name);
     if (!found) throw py::key_error("no camera named '" + name + "' in " + scene_->name);
     return *found;
-  }
-  /// Index into the scene's cameras of the camera `name` names (the first without one; -1: none).
-  int camera_index(const std::string& name) const {
-    if (name.empty()) return scene_->cameras.empty() ? -1 : 0;
-    const Camera* named = find_camera(*scene_, name);
-    return named ? int(named - scene_->cameras.data()) : -1;
   }
 
   IgiRenderOptions options_;
