@@ -7,8 +7,11 @@
 /// same surface (normal and tangent plane agree). A history of n frames takes the new frame with
 /// weight 1/n, n capped at RenderSettings::temporal_frames (an exponential moving average past
 /// the cap). Glossy and mirror radiance depend on the view: they are averaged only while the
-/// camera stays where it was. A change of the scene (lights, instances, meshes) drops every
-/// history, so nothing lags behind a moving light or object.
+/// camera stays where it was. After a change of the scene (lights, instances, meshes) each
+/// history is kept but first clamped, channel by channel, into the range the new frame shows
+/// around the pixel (its neighbourhood's lowest and highest irradiance): light that moved away
+/// or arrived is followed at once, while the history still averages away the VPLs' noise
+/// wherever the change is smaller than that noise.
 ///
 /// While the view stays still the primary rays move inside their pixels from frame to frame
 /// (pixel_jitter), and the albedo, glossy and unfiltered radiance are averaged with the
@@ -27,6 +30,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -62,6 +66,11 @@ class TemporalReuse {
   /// Longest irradiance history while the camera moves: every moving frame resamples the history
   /// bilinearly, and 8 frames of that keep its blur near one pixel.
   static constexpr int moving_frames = 8;
+  /// Half the side of the neighbourhood whose irradiance range bounds a history after a scene
+  /// change: 5 x 5 pixels reach beyond the discontinuity buffer's 3 x 3 window, so the range
+  /// holds pixels averaged over other VPL sets and spans the frame's own noise, not only the
+  /// sets a pixel shares with its neighbours.
+  static constexpr int clamp_radius = 2;
 
   /// Histories of at most `frames` frames (1 .. max_temporal_frames); throws SettingsError otherwise.
   explicit TemporalReuse(int frames) : frames_(frames) {
@@ -99,13 +108,15 @@ class TemporalReuse {
   };
 
   /// Starts a frame seen by `camera` at `width` x `height`; `scene_changed` says lights,
-  /// instances or meshes changed since the previous frame (every history is dropped). Returns
-  /// the clamp scale, ray positions and texture cone the frame is to be rendered with.
+  /// instances or meshes changed since the previous frame (the histories are then clamped to
+  /// the new frame's neighbourhoods). Returns the clamp scale, ray positions and texture cone the
+  /// frame is to be rendered with.
   FrameRequest begin(const Camera& camera, int width, int height, bool scene_changed) {
     const bool same_view = has_history() && !scene_changed && width == width_ && height == height_ &&
                            camera.camera_to_world == previous_camera_.camera_to_world &&
                            camera.yfov == previous_camera_.yfov;
-    if (scene_changed || width != width_ || height != height_) previous_projection_.reset();
+    if (width != width_ || height != height_) previous_projection_.reset();
+    scene_changed_ = scene_changed;
     still_ = same_view ? still_ + 1 : 0;
     width_ = width;
     height_ = height;
@@ -126,10 +137,12 @@ class TemporalReuse {
     glm::vec2 measured;  // where in each pixel its depth was measured: sub-sample 0's ray
     subsample_offset(0, antialiasing, measured.x, measured.y, pixel_jitter(still_));
     current_.assign(pixels, Sample{});
+    const bool clamp = scene_changed_ && has_history();
+    if (clamp) neighbourhood_ranges(layers);
     tbb::parallel_for(0, height_, [&](int y) {
       for (int x = 0; x < width_; ++x) {
         const std::size_t at = std::size_t(y) * std::size_t(width_) + std::size_t(x);
-        hdr.pixels[at] = pixel(projection, layers[at], x, y, measured, current_[at]);
+        hdr.pixels[at] = pixel(projection, layers[at], x, y, measured, clamp ? &ranges_[at] : nullptr, current_[at]);
       }
     });
     std::swap(previous_, current_);
@@ -148,6 +161,41 @@ class TemporalReuse {
  private:
   /// Whether previous_ holds the histories of a frame the next one may reuse.
   bool has_history() const noexcept { return previous_projection_.has_value(); }
+
+  /// The lowest and highest irradiance, channel by channel, of the hit pixels of a neighbourhood.
+  struct Range {
+    glm::vec3 lowest{std::numeric_limits<float>::infinity()};
+    glm::vec3 highest{-std::numeric_limits<float>::infinity()};
+  };
+
+  /// ranges_[pixel]: the Range of the (2 clamp_radius + 1)^2 pixels about it in `layers`, taken
+  /// as a running minimum and maximum along the rows, then along the columns.
+  void neighbourhood_ranges(std::span<const PixelLayers> layers) {
+    const std::size_t pixels = layers.size();
+    rows_.assign(pixels, Range{});
+    ranges_.assign(pixels, Range{});
+    tbb::parallel_for(0, height_, [&](int y) {
+      for (int x = 0; x < width_; ++x) {
+        Range& range = rows_[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
+        for (int i = std::max(0, x - clamp_radius); i <= std::min(width_ - 1, x + clamp_radius); ++i) {
+          const PixelLayers& near = layers[std::size_t(y) * std::size_t(width_) + std::size_t(i)];
+          if (!near.hit) continue;
+          range.lowest = glm::min(range.lowest, near.irradiance);
+          range.highest = glm::max(range.highest, near.irradiance);
+        }
+      }
+    });
+    tbb::parallel_for(0, height_, [&](int y) {
+      for (int x = 0; x < width_; ++x) {
+        Range& range = ranges_[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
+        for (int j = std::max(0, y - clamp_radius); j <= std::min(height_ - 1, y + clamp_radius); ++j) {
+          const Range& row = rows_[std::size_t(j) * std::size_t(width_) + std::size_t(x)];
+          range.lowest = glm::min(range.lowest, row.lowest);
+          range.highest = glm::max(range.highest, row.highest);
+        }
+      }
+    });
+  }
 
   /// What a pixel's history keeps.
   struct Sample {
@@ -196,9 +244,10 @@ class TemporalReuse {
     return found;
   }
 
-  /// Pixel (x, y)'s new history `out` and radiance; its first hit was measured at (x, y) + `measured`.
+  /// Pixel (x, y)'s new history `out` and radiance; its first hit was measured at (x, y) + `measured`;
+  /// with a `range` (after a scene change) the history is first clamped into it.
   glm::vec3 pixel(const PinholeProjection& projection, const PixelLayers& layers, int x, int y, glm::vec2 measured,
-                  Sample& out) const {
+                  const Range* range, Sample& out) const {
     const std::size_t at = std::size_t(y) * std::size_t(width_) + std::size_t(x);
     // The view-dependent terms keep a history only while the camera stays (then each pixel is its own previous pixel).
     const bool still = still_ > 0;  // the same view and scene as the previous frame
@@ -220,6 +269,7 @@ class TemporalReuse {
         history = *same_pixel;
       else if (has_history())
         history = reproject(out.position, out.normal, layers.depth);
+      if (range && history.length > 0) history.irradiance = glm::clamp(history.irradiance, range->lowest, range->highest);
       const int cap = still ? frames_ : std::min(frames_, moving_frames);
       out.length = std::min(history.length + 1, cap);
       const float weight = 1.0f / float(out.length);
@@ -242,9 +292,12 @@ class TemporalReuse {
   int width_ = 0;
   int height_ = 0;
   int still_ = 0;
+  bool scene_changed_ = false;  ///< Whether the frame begun follows a change of the scene.
   Camera previous_camera_;
   std::vector<Sample> previous_;  ///< The last frame's histories, row-major.
   std::vector<Sample> current_;   ///< The frame being accumulated (kept to reuse its memory).
+  std::vector<Range> rows_;       ///< Each pixel's range along its row (neighbourhood_ranges' first pass).
+  std::vector<Range> ranges_;     ///< Each pixel's neighbourhood range after a scene change.
   std::optional<PinholeProjection> previous_projection_;  ///< The last frame's camera; empty while there is no history.
   glm::vec2 previous_measured_{0.5f}; ///< Where in its pixel the previous frame measured each first hit.
 };
