@@ -24,7 +24,7 @@ def main():
     walks = data["walks"]
     lines = [f"walkthroughs: {data['size']}, {data['frames']} frames at {data['fps']} fps, references "
              f"{data['reference_spp']} spp (pixel centres), {data['threads']} threads",
-             f"{'walk':16} {'method':12} {'mean CV':>8} {'relMSE med':>10} {'relMSE worst':>12} "
+             f"{'walk':16} {'method':18} {'mean CV':>8} {'relMSE med':>10} {'relMSE worst':>12} "
              f"{'flicker med':>11} {'(floor)':>8} {'ms med':>8}"]
     figure, axes = plt.subplots(2, len(walks), figsize=(4.2 * len(walks), 7), squeeze=False)
     for column, walk in enumerate(walks):
@@ -32,7 +32,7 @@ def main():
             frames = method["frames"]
             axes[0][column].plot([f["frame"] for f in frames], [f["relmse"] for f in frames], label=method["method"])
             axes[1][column].plot([f["frame"] for f in frames], [f["mean_ratio"] for f in frames], label=method["method"])
-            lines.append(f"{walk['walk']:16} {method['method']:12} {100 * method['mean_ratio_cv']:7.1f}% "
+            lines.append(f"{walk['walk']:16} {method['method']:18} {100 * method['mean_ratio_cv']:7.1f}% "
                          f"{method['relmse_median']:10.4f} {method['relmse_worst']:12.4f} "
                          f"{100 * method['flicker_median']:10.1f}% {100 * method['flicker_floor_median']:7.1f}% {method['ms_median']:8.1f}")
         axes[0][column].set_title(walk["walk"])

@@ -1,6 +1,8 @@
 // igi-walkthrough: IGI under motion. Plays walkthroughs (camera paths stored as glTF files in
-// bench/walkthrough/paths, a moving light and a moving object) with several IGI methods and
-// measures every frame against a path-traced reference of that same frame:
+// bench/walkthrough/paths, a moving light and a moving object) with several IGI methods, and
+// with what a user would build instead (the path tracer at 1 sample per pixel, averaged over
+// time and à-trous filtered: DenoisedPathTracer), and measures every frame against a
+// path-traced reference of that same frame:
 //   relmse      relMSE against the reference, less the reference's own noise (the reference is
 //               the mean of two half-budget seeds, so its noise is a quarter of their relMSE);
 //   mean_ratio  the frame's mean over the reference's (the pulsing a user sees is its spread);
@@ -40,6 +42,7 @@
 #include "igi/io/image_files.hpp"
 #include "igi/io/metrics.hpp"
 #include "igi/render/animation.hpp"
+#include "igi/render/denoised_path_tracer.hpp"
 #include "igi/render/filter_choice.hpp"
 #include "igi/render/path_tracer.hpp"
 #include "igi/render/renderer.hpp"
@@ -138,15 +141,21 @@ std::vector<Walk> all_walks() {
           {"cornell_object", "cornell", "", Animation::object}};
 }
 
-/// An IGI method: a label and how it differs from the default settings.
+/// A method: a label and how it differs from IGI's default settings, or the denoised path tracer.
 struct Method {
   std::string name;             ///< Label.
-  std::string vpl_sampler;      ///< --vpl-sampler.
-  int temporal_frames;          ///< --temporal.
+  std::string vpl_sampler;      ///< --vpl-sampler (IGI only).
+  int temporal_frames;          ///< --temporal; the denoised path tracer's longest history.
+  bool path_traced = false;     ///< DenoisedPathTracer at 1 sample per pixel instead of IGI.
 };
 
-/// The methods measured: igi-render's defaults, temporal reuse over 8 frames, view-importance VPLs.
-const std::vector<Method> all_methods = {{"default", "qmc", 0}, {"temporal 8", "qmc", 8}, {"importance", "importance", 0}};
+/// The methods measured: igi-render's defaults, temporal reuse over 8 frames, view-importance
+/// VPLs, and the path tracer at 1 sample per pixel with temporal reuse and the à-trous filter
+/// (its default history of 32 frames, which a moving camera caps at 8, as IGI's).
+const std::vector<Method> all_methods = {{"default", "qmc", 0},
+                                         {"temporal 8", "qmc", 8},
+                                         {"importance", "importance", 0},
+                                         {"path 1spp denoised", "", DenoisedPathTracerSettings{}.temporal_frames, true}};
 
 /// Everything the command line decides.
 struct Options {
@@ -345,23 +354,38 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
   for (const Method& method : methods) {
     std::cerr << "igi-walkthrough: " << walk.name << ": " << method.name << "\n";
     Scene scene = frames.scene;
-    RenderSettings settings;
-    settings.width = size.width;
-    settings.height = size.height;
-    settings.threads = options.threads;
-    settings.temporal_frames = method.temporal_frames;
     const GltfMaterialShader surface(scene);
     const StandardBrdf brdf;
-    const ProgramVplSampler sampler(method.vpl_sampler);
     const FilterChoice filter("discontinuity");
-    Renderer<Backend, GltfMaterialShader, StandardBrdf, ProgramVplSampler, FilterChoice> renderer(scene, settings, surface,
-                                                                                               brdf, sampler, filter);
+    std::optional<ProgramVplSampler> sampler;
+    std::optional<Renderer<Backend, GltfMaterialShader, StandardBrdf, ProgramVplSampler, FilterChoice>> renderer;
+    std::optional<DenoisedPathTracer<Backend, GltfMaterialShader, StandardBrdf>> denoised;
+    if (method.path_traced) {
+      DenoisedPathTracerSettings settings;
+      settings.width = size.width;
+      settings.height = size.height;
+      settings.temporal_frames = method.temporal_frames;
+      settings.path_tracer.threads = options.threads;
+      denoised.emplace(scene, surface, brdf, settings);
+    } else {
+      RenderSettings settings;
+      settings.width = size.width;
+      settings.height = size.height;
+      settings.threads = options.threads;
+      settings.temporal_frames = method.temporal_frames;
+      sampler.emplace(method.vpl_sampler);
+      renderer.emplace(scene, settings, surface, brdf, *sampler, filter);
+    }
+    // Frame f of the walk, its scene changes applied first.
+    const auto render = [&](std::size_t f) {
+      if (denoised) return denoised->render(denoised->apply(frames.changes[f]), std::uint32_t(f));
+      return renderer->render(renderer->apply(frames.changes[f]), std::uint32_t(f));
+    };
     std::vector<StatsJson> per_frame;
     std::vector<double> ratios, errors, flickers, floors, times;
     Image previous;
     for (std::size_t f = 0; f < frames.changes.size(); ++f) {
-      const Camera camera = renderer.apply(frames.changes[f]);
-      const Frame frame = renderer.render(camera, std::uint32_t(f));
+      const Frame frame = render(f);
       const double error = relmse(frame.hdr, reference[f].mean) - reference[f].noise;
       const double ratio = image_mean(frame.hdr) / image_mean(reference[f].mean);
       StatsJson row;
@@ -429,7 +453,7 @@ int main(int argc, char** argv) {
         methods.push_back(method);
     for (const std::string& name : method_names)
       if (std::none_of(all_methods.begin(), all_methods.end(), [&](const Method& m) { return m.name == name; }))
-        throw UsageError("--methods: no method '" + name + "' (default, temporal 8, importance)");
+        throw UsageError("--methods: no method '" + name + "' (default, temporal 8, importance, path 1spp denoised)");
     const std::vector<Walk> known = all_walks();
     for (const std::string& name : walk_names)
       if (std::none_of(known.begin(), known.end(), [&](const Walk& w) { return w.name == name; }))

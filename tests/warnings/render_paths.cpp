@@ -14,6 +14,8 @@ template class igi::Renderer<igi::EmbreeBackend<4>, igi::GltfMaterialShader, igi
 #elif IGI_WARNINGS_WIDTH == 8
 template class igi::Renderer<igi::EmbreeBackend<8>, igi::GltfMaterialShader, igi::StandardBrdf,
                              igi::ImportanceVplSampler, igi::AtrousFilter>;
+// The path tracer that reuses the à-trous filter, with it.
+template class igi::DenoisedPathTracer<igi::EmbreeBackend<8>, igi::GltfMaterialShader, igi::StandardBrdf>;
 #elif IGI_WARNINGS_WIDTH == 16
 template class igi::Renderer<igi::EmbreeBackend<16>, igi::GltfMaterialShader, igi::StandardBrdf, igi::QmcVplSampler,
                              igi::BoxFilter>;

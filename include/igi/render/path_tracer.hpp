@@ -58,7 +58,7 @@ struct PathTracerSettings {
   int threads = 0;                 ///< Worker threads; 0 means all cores.
   int russian_roulette_depth = 3;  ///< Bounces traced unconditionally before Russian roulette starts.
   int max_depth = 1024;            ///< Safety cap on bounces; with survival <= 0.95 it cuts at most 0.95^1000 ~ 5e-23 of the light.
-  bool jitter = true;              ///< Sample the whole pixel (box filter); false: the pixel centre only, as IGI with aa 1.
+  bool jitter = true;              ///< Sample the whole pixel (box filter); false: the pixel centre only (or PathTracer::set_pixel_position's point), as IGI with aa 1.
   int tile_size = 16;              ///< Tile edge of the parallel loop (work unit only; no effect on the image).
 };
 
@@ -165,9 +165,11 @@ class PathTracer {
   }
 
   /// The G-buffer of the current image (after reset; SettingsError before): for each pixel, row by
-  /// row from the top, the first opaque hit of the camera ray through its centre, as the IGI
-  /// pipeline's PixelLayers give it with one camera ray per pixel: albedo, shading normal, distance
-  /// and hit (all zero on a miss); the radiance terms stay zero. What a denoiser or compositing reads.
+  /// row from the top, the first opaque hit of the camera ray through its centre (or where
+  /// set_pixel_position put the rays), as the IGI pipeline's PixelLayers give it with one camera
+  /// ray per pixel: albedo, shading normal, distance and hit (all zero on a miss), and in `rest`
+  /// the hit's emission (what the camera sees of it directly, which a denoiser keeps out of the
+  /// light it filters); the other radiance terms stay zero. What a denoiser or compositing reads.
   std::vector<PixelLayers> first_hits() {
     if (!projection_) throw SettingsError("PathTracer::first_hits before reset(camera, width, height)");
     const int width = projection_->width(), height = projection_->height();
@@ -176,7 +178,8 @@ class PathTracer {
       tbb::parallel_for(0, height, [&](int y) {
         for (int x = 0; x < width; ++x) {
           RayPacket<1> ray;
-          ray.set(vec3<1>(projection_->origin()), vec3<1>(projection_->direction(float(x) + 0.5f, float(y) + 0.5f)),
+          ray.set(vec3<1>(projection_->origin()),
+                  vec3<1>(projection_->direction(float(x) + pixel_position_.x, float(y) + pixel_position_.y)),
                   vfloat<1>(0.0f), vfloat<1>(std::numeric_limits<float>::infinity()), vmask<1>(true));
           std::uint64_t rays = 0;
           const Vertex v = trace(ray, rays);
@@ -186,6 +189,7 @@ class PathTracer {
           pixel.normal = v.parameters.normal[0];
           pixel.depth = v.hit.distance[0];
           pixel.hit = true;
+          pixel.rest = v.parameters.emission[0];
         }
       });
     });
@@ -199,6 +203,14 @@ class PathTracer {
     return image();
   }
 
+  /// Draws the samples added from now on from `seed` instead of PathTracerSettings::seed, so that
+  /// each frame of a sequence has noise of its own (DenoisedPathTracer seeds it by frame index).
+  void set_seed(std::uint32_t seed) noexcept { settings_.seed = seed; }
+  /// Where in its pixel (0..1 on each axis) the camera ray of every sample added from now on
+  /// passes without jitter, and first_hits' ray: the centre (0.5, 0.5) unless set. A still view's
+  /// frames move it to cover the pixel (TemporalReuse::pixel_jitter).
+  void set_pixel_position(glm::vec2 position) noexcept { pixel_position_ = position; }
+
   /// Samples per pixel so far.
   int samples() const noexcept { return samples_; }
   /// Rays and paths traced since the last reset.
@@ -210,7 +222,7 @@ class PathTracer {
   /// Radiance of sample `s` of pixel (x, y) (a pure function of seed, x, y, s); counts its rays into `counts`.
   glm::vec3 sample(int x, int y, int s, PathTracerStatistics& counts) const {
     Rng rng(hash(hash(hash(settings_.seed, std::uint32_t(x)), std::uint32_t(y)), std::uint32_t(s)));
-    float dx = 0.5f, dy = 0.5f;
+    float dx = pixel_position_.x, dy = pixel_position_.y;
     if (settings_.jitter) {
       dx = rng.next();
       dy = rng.next();
@@ -409,6 +421,7 @@ class PathTracer {
   CutoutMeshes cutouts_;          ///< The alpha cut-out meshes, kept only where see-through ones are too (transmittance).
   SeeThroughMeshes see_through_;  ///< Thin-walled glass and alpha-blended meshes, which shadow rays pass attenuated.
   std::optional<PinholeProjection> projection_;
+  glm::vec2 pixel_position_{0.5f};  ///< Where unjittered camera rays pass in their pixels (set_pixel_position).
   std::vector<glm::dvec3> sums_;
   int samples_ = 0;
   PathTracerStatistics statistics_;

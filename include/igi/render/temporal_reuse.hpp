@@ -10,8 +10,10 @@
 /// camera stays where it was. After a change of the scene (lights, instances, meshes) each
 /// history is kept but first clamped, channel by channel, into the range the new frame shows
 /// around the pixel (its neighbourhood's lowest and highest irradiance): light that moved away
-/// or arrived is followed at once, while the history still averages away the VPLs' noise
-/// wherever the change is smaller than that noise.
+/// or arrived is followed at once, while the history still averages away the noise wherever
+/// the change is smaller than that noise. Beside the irradiance each history averages its
+/// luminance's square, so that its variance over the frames is known (irradiance_variance:
+/// what guides DenoisedPathTracer's filter).
 ///
 /// While the view stays still the primary rays move inside their pixels from frame to frame
 /// (pixel_jitter), and the albedo, glossy and unfiltered radiance are averaged with the
@@ -42,6 +44,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "igi/io/image_types.hpp"
+#include "igi/io/srgb.hpp"
 #include "igi/render/interleaving.hpp"
 #include "igi/render/pixel_layers.hpp"
 #include "igi/render/settings.hpp"
@@ -157,6 +160,22 @@ class TemporalReuse {
   }
   /// Frames before the current one with the same view and scene.
   int still_frames() const noexcept { return still_; }
+  /// Pixel (x, y)'s averages after the last accumulate, as it composed them into the pixel's
+  /// radiance: irradiance, glossy, albedo and rest (normal, depth and hit stay zero). What a
+  /// caller that filters the averaged irradiance further remodulates it with (DenoisedPathTracer).
+  PixelLayers averages(int x, int y) const {
+    if (!has_history()) return {};
+    const Sample& sample = previous_.at(std::size_t(y) * std::size_t(width_) + std::size_t(x));
+    return {.irradiance = sample.irradiance, .glossy = sample.glossy, .albedo = sample.albedo, .rest = sample.rest};
+  }
+  /// Variance of the luminance of pixel (x, y)'s irradiance over the frames averaged into it by
+  /// the last accumulate (from the running mean of the squared luminance; 0 with one frame or none).
+  float irradiance_variance(int x, int y) const {
+    if (!has_history()) return 0.0f;
+    const Sample& sample = previous_.at(std::size_t(y) * std::size_t(width_) + std::size_t(x));
+    const float mean = luminance(sample.irradiance);
+    return std::max(sample.luminance_square - mean * mean, 0.0f);
+  }
 
  private:
   /// Whether previous_ holds the histories of a frame the next one may reuse.
@@ -205,6 +224,7 @@ class TemporalReuse {
     glm::vec3 rest{0.0f};        ///< Average unfiltered radiance (this view's).
     glm::vec3 position{0.0f};    ///< World position of the first hit.
     glm::vec3 normal{0.0f};      ///< Its shading normal.
+    float luminance_square = 0.0f;  ///< Average of the irradiance's squared luminance (its variance's second moment).
     int length = 0;              ///< Frames in the irradiance average; 0: no hit.
   };
 
@@ -227,6 +247,7 @@ class TemporalReuse {
     const float fx = u - float(x0), fy = v - float(y0);
     float weight_sum = 0.0f, length_sum = 0.0f;
     glm::vec3 irradiance(0.0f);
+    float luminance_square = 0.0f;
     for (int j = 0; j < 2; ++j)
       for (int i = 0; i < 2; ++i) {
         const int x = x0 + i, y = y0 + j;
@@ -237,9 +258,11 @@ class TemporalReuse {
         weight_sum += weight;
         length_sum += weight * float(old.length);
         irradiance += weight * old.irradiance;
+        luminance_square += weight * old.luminance_square;
       }
     if (!(weight_sum > 0.0f)) return found;
     found.irradiance = irradiance / weight_sum;
+    found.luminance_square = luminance_square / weight_sum;
     found.length = std::max(1, int(length_sum / weight_sum + 0.5f));
     return found;
   }
@@ -269,15 +292,26 @@ class TemporalReuse {
         history = *same_pixel;
       else if (has_history())
         history = reproject(out.position, out.normal, layers.depth);
-      if (range && history.length > 0) history.irradiance = glm::clamp(history.irradiance, range->lowest, range->highest);
+      if (range && history.length > 0) {
+        // The clamp moves the history's mean; its second moment moves with it, so that the
+        // variance over its frames stays what it was.
+        const float before = luminance(history.irradiance);
+        history.irradiance = glm::clamp(history.irradiance, range->lowest, range->highest);
+        const float after = luminance(history.irradiance);
+        history.luminance_square = std::max(history.luminance_square + after * after - before * before, 0.0f);
+      }
       const int cap = still ? frames_ : std::min(frames_, moving_frames);
       out.length = std::min(history.length + 1, cap);
       const float weight = 1.0f / float(out.length);
       out.irradiance = history.length > 0 ? history.irradiance + (layers.irradiance - history.irradiance) * weight
                                           : layers.irradiance;
+      const float brightness = luminance(layers.irradiance), square = brightness * brightness;
+      out.luminance_square =
+          history.length > 0 ? history.luminance_square + (square - history.luminance_square) * weight : square;
     } else if (same_pixel && same_pixel->length > 0) {
       // A ray that missed where this pixel's earlier rays hit: their surface's history stays.
       out.irradiance = same_pixel->irradiance;
+      out.luminance_square = same_pixel->luminance_square;
       out.length = same_pixel->length;
       out.position = same_pixel->position;
       out.normal = same_pixel->normal;
