@@ -147,12 +147,15 @@ struct Method {
   std::string vpl_sampler;      ///< --vpl-sampler (IGI only).
   int temporal_frames;          ///< --temporal; the denoised path tracer's longest history.
   bool path_traced = false;     ///< DenoisedPathTracer at 1 sample per pixel instead of IGI.
+  float portal_share = RenderSettings{}.portal_share;  ///< --portal-share (IGI only).
 };
 
-/// The methods measured: igi-render's defaults, temporal reuse over 8 frames, view-importance
-/// VPLs, and the path tracer at 1 sample per pixel with temporal reuse and the à-trous filter
-/// (its default history of 32 frames, which a moving camera caps at 8, as IGI's).
+/// The methods measured: igi-render's defaults, the paper's walks (no portals), temporal reuse
+/// over 8 frames, view-importance VPLs, and the path tracer at 1 sample per pixel with temporal
+/// reuse and the à-trous filter (its default history of 32 frames, which a moving camera caps
+/// at 8, as IGI's).
 const std::vector<Method> all_methods = {{"default", "qmc", 0},
+                                         {"no portals", "qmc", 0, false, 0.0f},
                                          {"temporal 8", "qmc", 8},
                                          {"importance", "importance", 0},
                                          {"path 1spp denoised", "", DenoisedPathTracerSettings{}.temporal_frames, true}};
@@ -373,6 +376,7 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
       settings.height = size.height;
       settings.threads = options.threads;
       settings.temporal_frames = method.temporal_frames;
+      settings.portal_share = method.portal_share;
       sampler.emplace(method.vpl_sampler);
       renderer.emplace(scene, settings, surface, brdf, *sampler, filter);
     }
@@ -453,7 +457,7 @@ int main(int argc, char** argv) {
         methods.push_back(method);
     for (const std::string& name : method_names)
       if (std::none_of(all_methods.begin(), all_methods.end(), [&](const Method& m) { return m.name == name; }))
-        throw UsageError("--methods: no method '" + name + "' (default, temporal 8, importance, path 1spp denoised)");
+        throw UsageError("--methods: no method '" + name + "' (default, no portals, temporal 8, importance, path 1spp denoised)");
     const std::vector<Walk> known = all_walks();
     for (const std::string& name : walk_names)
       if (std::none_of(known.begin(), known.end(), [&](const Walk& w) { return w.name == name; }))
