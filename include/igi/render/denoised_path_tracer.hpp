@@ -16,8 +16,10 @@
 ///    than its emission, and filtered it would bleed into the surfaces around it).
 /// 3. TemporalReuse averages the irradiance over the pixel's history, found by reprojecting its
 ///    first hit into the previous frame and dropped where normal or tangent plane disagree (a
-///    disocclusion), and clamped to the new frame's neighbourhood where the scene changed; it also
-///    keeps the average of the squared luminance.
+///    disocclusion) or where the scene changed (clamping to a neighbourhood's range, as IGI's
+///    filtered frames do, darkened this method's single paths: frames of the window room under
+///    a circling sun fell to 0.56 of the reference's mean); it also keeps the average of the
+///    squared luminance.
 /// 4. The variance of each pixel's average: from the history's moments (their variance over the
 ///    frames averaged) where the history is long enough, else the spread over the 3 x 3 window of
 ///    pixels on the same surface, whose same-surface mean then stands for the pixel (AtrousFilter's
@@ -116,7 +118,7 @@ class DenoisedPathTracer {
         settings_((validate(settings), settings)),
         backend_(scene),
         filter_(settings.filter),
-        temporal_(settings.temporal_frames),
+        temporal_(settings.temporal_frames, TemporalReuse::AfterSceneChange::drop),
         arena_(settings.path_tracer.threads > 0 ? settings.path_tracer.threads : tbb::task_arena::automatic) {
     tracer_.emplace(*scene_, backend_, *surface_, *brdf_, settings_.path_tracer);
     guide_.resize(settings_.width, settings_.height);  // glossy and unfiltered radiance stay zero
@@ -124,8 +126,8 @@ class DenoisedPathTracer {
   }
 
   /// Applies an animation's `changes` (throws SceneError on an index the scene lacks, before
-  /// changing anything) and returns their camera. After a change of a light, an instance or a
-  /// mesh the next frame clamps every history to its neighbourhood, as in TemporalReuse.
+  /// changing anything) and returns their camera. A change of a light, an instance or a mesh
+  /// drops every history at the next frame, so nothing lags behind it.
   Camera apply(const SceneChanges& changes) {
     changes.check(*scene_);
     const bool lights = std::any_of(changes.lights.begin(), changes.lights.end(), [&](const auto& change) {
@@ -270,7 +272,7 @@ class DenoisedPathTracer {
   tbb::task_arena arena_;  ///< Runs the per-pixel loops on the path tracer's number of threads.
   std::optional<PathTracer<B, Surface, Brdf>> tracer_;  ///< Rebuilt when the scene changes (apply).
   std::optional<ToneMapping> tone_mapping_;
-  bool scene_changed_ = false;       ///< Whether the scene changed since the last frame (every history is clamped).
+  bool scene_changed_ = false;       ///< Whether the scene changed since the last frame (every history is dropped).
   std::vector<PixelLayers> layers_;  ///< The last frame's G-buffer and demodulated radiance.
   TileGBuffer guide_;                ///< The filter's input: the whole image as one tile without border.
   AtrousTileStages stages_;          ///< The filter's stage outputs.

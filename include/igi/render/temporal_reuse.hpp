@@ -8,7 +8,7 @@
 /// weight 1/n, n capped at RenderSettings::temporal_frames (an exponential moving average past
 /// the cap). Glossy and mirror radiance depend on the view: they are averaged only while the
 /// camera stays where it was. After a change of the scene (lights, instances, meshes) each
-/// history is kept but first clamped, channel by channel, into the range the new frame shows
+/// history is kept but first clamped (AfterSceneChange::clamp; or dropped), channel by channel, into the range the new frame shows
 /// around the pixel (its neighbourhood's lowest and highest irradiance): light that moved away
 /// or arrived is followed at once, while the history still averages away the noise wherever
 /// the change is smaller than that noise. Beside the irradiance each history averages its
@@ -78,8 +78,16 @@ class TemporalReuse {
   /// quarter with 5 x 5).
   static constexpr int clamp_radius = 1;
 
-  /// Histories of at most `frames` frames (1 .. max_temporal_frames); throws SettingsError otherwise.
-  explicit TemporalReuse(int frames) : frames_(frames) {
+  /// What a history does when the scene changed since its frame.
+  enum class AfterSceneChange {
+    clamp,  ///< Kept, clamped into the new frame's neighbourhood range (inputs already filtered, as IGI's).
+    drop,   ///< Dropped (inputs of one sample each, whose neighbourhood range lies mostly below their mean).
+  };
+
+  /// Histories of at most `frames` frames (1 .. max_temporal_frames), treated after a scene change
+  /// as `after_change` says; throws SettingsError otherwise.
+  explicit TemporalReuse(int frames, AfterSceneChange after_change = AfterSceneChange::clamp)
+      : frames_(frames), after_change_(after_change) {
     if (frames < 1 || frames > max_temporal_frames)
       throw SettingsError("temporal frames " + std::to_string(frames) + " is outside 1.." +
                           std::to_string(max_temporal_frames));
@@ -121,7 +129,8 @@ class TemporalReuse {
     const bool same_view = has_history() && !scene_changed && width == width_ && height == height_ &&
                            camera.camera_to_world == previous_camera_.camera_to_world &&
                            camera.yfov == previous_camera_.yfov;
-    if (width != width_ || height != height_) previous_projection_.reset();
+    if (width != width_ || height != height_ || (scene_changed && after_change_ == AfterSceneChange::drop))
+      previous_projection_.reset();
     scene_changed_ = scene_changed;
     still_ = same_view ? still_ + 1 : 0;
     width_ = width;
@@ -326,6 +335,7 @@ class TemporalReuse {
   }
 
   int frames_;
+  AfterSceneChange after_change_;
   int width_ = 0;
   int height_ = 0;
   int still_ = 0;
