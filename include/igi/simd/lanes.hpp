@@ -17,7 +17,32 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+
+// GCC 12 reports two kinds of uninitialised reads inside these two headers that cannot happen:
+// - x86 intrinsics that take no merge source (_mm512_cvtepi32_pd, _mm512_cvttpd_epi32,
+//   _mm512_roundscale_pd, _mm512_inserti64x4, ...) pass the builtin one a variable initialised
+//   with itself on purpose (`__m512d __Y = __Y;` in _mm512_undefined_pd() and its kin), which
+//   their all-lanes mask never reads; GCC 12 reports it wherever they are inlined (GCC 13 no
+//   longer does). libstdc++'s simd calls them under AVX-512 in integer division and remainder and
+//   in sin and cos, in conversions igi cannot choose.
+// - Writing one lane of a packet (libstdc++'s _SimdWrapper::_M_set, `_M_data[__i] = __x`) is
+//   reported as reading the packet uninitialised when a default vec3<4> is filled lane by lane at
+//   AVX-512, although lanes' default constructor below has zeroed every chunk.
+// Both are located in these headers' lines, which the pragmas cover wherever the headers are
+// first included (here, in igi's programs); igi's own lines below, and the code that includes
+// this file, keep -Wuninitialized and -Wmaybe-uninitialized.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
 #include <experimental/simd>
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 // libstdc++'s <experimental/simd> uses AVX-512 mask registers (the bitmask ABIs) whenever AVX-512
 // is on, and clang compiles their masked assignment wrongly: with clang 14 and libstdc++ 12,
@@ -31,10 +56,6 @@
 #endif
 #include <limits>
 #include <type_traits>
-
-#if defined(__AVX2__)
-#include <immintrin.h>
-#endif
 
 namespace igi {
 
@@ -363,13 +384,12 @@ template <class T, int W>
 }
 namespace detail {
 // GCC 12's AVX-512 intrinsics that take no merge source (_mm512_sqrt_ps, _mm512_roundscale_ps,
-// _mm512_i32gather_ps, ...) pass the builtin one from _mm512_undefined_ps(), a deliberately
-// uninitialised variable that their all-lanes mask never reads, and -Wall reports it at every
-// inlined call (-Wmaybe-uninitialized and -Wuninitialized; GCC bug 105593, fixed in GCC 13).
-// libstdc++'s simd sqrt and floor call two of them. Their zero-masking forms with every lane
-// selected compile to the same unmasked instruction but pass a zero source, so igi uses those on
-// 16-float registers. (libstdc++'s integer division and its exp, log, sin, cos and pow call more,
-// in int/double conversions igi cannot choose; GCC 12 still reports those under AVX-512.)
+// _mm512_i32gather_ps, ...) pass an undefined one, which GCC 12 reports wherever they are inlined
+// (see the includes at the top of this file). libstdc++'s simd sqrt and floor call two of them.
+// Their zero-masking forms with every lane selected compile to the same unmasked instruction but
+// pass a zero source, so igi uses those on 16-float registers: nothing to report even in a
+// program that included <immintrin.h> before igi, where the pragmas around igi's includes do not
+// cover the intrinsics' lines.
 #if defined(__AVX512F__)
 /// Every lane of a 16-lane register: the mask that makes a zero-masking AVX-512 form unmasked.
 inline constexpr __mmask16 every_lane_of_16 = 0xFFFF;
