@@ -134,7 +134,8 @@ void add_sampling_options(CommandLine& command_line, RenderSettings& settings) {
 void add_temporal_option(CommandLine& command_line, RenderSettings& settings) {
   command_line.add("--temporal", settings.temporal_frames,
                    "temporal reuse: each pixel averages up to this many frames of its history, reprojected with the "
-                   "camera's motion and dropped where another surface shows or the scene changed; while the view "
+                   "camera's motion, dropped where another surface shows and clamped to the new frame's neighbourhood "
+                   "where the scene changed; while the view "
                    "stays still the clamp shrinks, so the image converges towards the unclamped one (0: off)")
       .range(0, max_temporal_frames)
       .show_default();

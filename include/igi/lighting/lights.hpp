@@ -534,8 +534,8 @@ class EnvironmentLight {
   /// The other half takes the sky's own directions towards the same points, so that light
   /// coming in from any direction the window admits has an aimed density (with cones alone,
   /// a window's light from directions between the cones came only from the unaimed share, a
-  /// few heavy particles whose luck made whole frames too bright). Halves: either strategy
-  /// alone has frames ruled by the other's missing part (docs/sky.md).
+  /// few heavy particles whose luck made whole frames too bright; docs/sky.md, part 2b). Halves:
+  /// an even split, not tuned; the cones alone are what part 2b measured against.
   static constexpr float along_ray_share = 0.5f;
 };
 

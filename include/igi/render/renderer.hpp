@@ -223,7 +223,7 @@ class Renderer {
   std::optional<TemporalReuse> temporal_ =
       engine_.settings().temporal_frames > 0 ? std::optional<TemporalReuse>(engine_.settings().temporal_frames)
                                              : std::nullopt;
-  bool scene_changed_ = false;       ///< Whether the scene changed since the last frame (temporal reuse drops its histories).
+  bool scene_changed_ = false;       ///< Whether the scene changed since the last frame (temporal reuse clamps its histories).
   std::vector<PixelLayers> layers_;  ///< The current frame's PixelLayers (with temporal reuse).
 };
 
