@@ -130,16 +130,7 @@ class DenoisedPathTracer {
   /// drops every history at the next frame, so nothing lags behind it.
   Camera apply(const SceneChanges& changes) {
     changes.check(*scene_);
-    const bool lights = std::any_of(changes.lights.begin(), changes.lights.end(), [&](const auto& change) {
-      return !(scene_->lights[std::size_t(change.first)] == change.second);
-    });
-    const bool instances = std::any_of(changes.instances.begin(), changes.instances.end(), [&](const auto& change) {
-      return scene_->instances[std::size_t(change.first)].transform != change.second;
-    });
-    const bool meshes = std::any_of(changes.meshes.begin(), changes.meshes.end(), [&](const MeshVertices& vertices) {
-      return scene_->meshes[std::size_t(vertices.mesh)].positions != vertices.positions;
-    });
-    if (!lights && !instances && !meshes) return changes.camera;
+    if (!changes.alters(*scene_)) return changes.camera;
     changes.apply_to(*scene_);
     for (const auto& [index, transform] : changes.instances) backend_.set_instance_transform(index, transform);
     for (const MeshVertices& vertices : changes.meshes) backend_.set_mesh_positions(vertices.mesh, vertices.positions);

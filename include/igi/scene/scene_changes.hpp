@@ -4,6 +4,7 @@
 /// transforms, the vertices of deformed meshes), as absolute values. Animations produce it, renderers apply it, and the tile farm
 /// broadcasts it to every rank at the start of a frame.
 
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -53,6 +54,17 @@ struct SceneChanges {
                          " normals and " + std::to_string(vertices.tangents.size()) + " tangents; it has " +
                          std::to_string(count) + " vertices");
     }
+  }
+
+  /// Whether applying the changes would change `scene`'s lights, instance transforms or mesh
+  /// positions (the camera aside); indices must exist (check()).
+  bool alters(const Scene& scene) const {
+    return std::any_of(lights.begin(), lights.end(),
+                       [&](const auto& change) { return !(scene.lights[std::size_t(change.first)] == change.second); }) ||
+           std::any_of(instances.begin(), instances.end(),
+                       [&](const auto& change) { return scene.instances[std::size_t(change.first)].transform != change.second; }) ||
+           std::any_of(meshes.begin(), meshes.end(),
+                       [&](const MeshVertices& vertices) { return scene.meshes[std::size_t(vertices.mesh)].positions != vertices.positions; });
   }
 
   /// Applies the changes to `scene` itself (no backend follows: for a scene not yet rendered, or
