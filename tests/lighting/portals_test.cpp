@@ -84,14 +84,22 @@ TEST_CASE("portals: aimed sun particles carry the sun's irradiance into every re
   const std::vector<AimPoint> targets = {{{1.0f, 0.0f, 1.0f}, 0.5f}, {{1.3f, 0.0f, 1.1f}, 0.8f}, {{-4.0f, -2.0f, 3.0f}, 2.0f}};
   const DirectionalEmitter plain(direction, irradiance, bounds);
   const DirectionalEmitter aimed(direction, irradiance, bounds, targets, 0.7f);
+  // Aimed at the targets and through openings (a window's points upstream of them), half each;
+  // and through the openings alone, as where the view shows no sunlit point.
+  const std::vector<AimPoint> openings = {{{1.5f, 2.0f, 1.5f}, 0.4f}, {{2.0f, 2.0f, 1.4f}, 0.6f}};
+  const DirectionalEmitter through_openings(direction, irradiance, bounds, targets, 0.7f, openings);
+  const DirectionalEmitter openings_only(direction, irradiance, bounds, {}, 0.7f, openings);
   // A region 2 m across holds about 1% of the disc's unaimed particles: 10,000 of 2^20, whose
   // mean flux is within 2% (the aimed ones, lighter and denser, do better).
   constexpr int samples = 1 << 20;
-  // Across the targets, half over them, and far from every target.
-  for (const glm::vec3& point : {glm::vec3(1.0f, 0.0f, 1.0f), glm::vec3(2.5f, 0.0f, 1.3f), glm::vec3(6.0f, 3.0f, -5.0f)}) {
-    const glm::dvec3 with = flux_through(aimed, point, 2.0f, samples);
-    CHECK(with.x == Approx(irradiance.x).epsilon(0.02));
-    CHECK(with.z == Approx(irradiance.z).epsilon(0.02));
+  // Across the targets, half over them, below the openings and far from every target.
+  for (const glm::vec3& point : {glm::vec3(1.0f, 0.0f, 1.0f), glm::vec3(2.5f, 0.0f, 1.3f), glm::vec3(2.2f, 0.0f, 1.8f),
+                                 glm::vec3(6.0f, 3.0f, -5.0f)}) {
+    for (const DirectionalEmitter* light : {&aimed, &through_openings, &openings_only}) {
+      const glm::dvec3 with = flux_through(*light, point, 2.0f, samples);
+      CHECK(with.x == Approx(irradiance.x).epsilon(0.02));
+      CHECK(with.z == Approx(irradiance.z).epsilon(0.02));
+    }
     CHECK(flux_through(plain, point, 2.0f, samples).x == Approx(irradiance.x).epsilon(0.02));
   }
   // The aimed share goes where it is sent: near a target, the particles are that much denser.
@@ -226,13 +234,13 @@ TEST_CASE("portals: a room's openings are found where the sun and the sky reach 
   const auto distance_to_box = [](const glm::vec3& p, const glm::vec3& low, const glm::vec3& high) {
     return glm::length(glm::max(glm::max(low - p, p - high), glm::vec3(0.0f)));
   };
-  REQUIRE(portals.sky_openings.size() == portals.sky_points.size());
+  REQUIRE(portals.openings.size() == portals.sky_points.size());
   int inside_escapes = 0, near_window = 0;
   for (std::size_t i = 0; i < portals.sky_points.size(); ++i) {
     if (!inside_room(portals.sky_points[i].point)) continue;
     ++inside_escapes;
-    const glm::vec3 q = portals.sky_openings[i].point;
-    CHECK(portals.sky_openings[i].spread > 0.0f);
+    const glm::vec3 q = portals.openings[i].point;
+    CHECK(portals.openings[i].spread > 0.0f);
     near_window += std::min(distance_to_box(q, {1.5f, 0.9f, 4.0f}, {3.5f, 2.1f, 4.2f}),
                             distance_to_box(q, {-0.2f, 0.9f, 0.8f}, {0.0f, 2.1f, 2.2f})) < 0.5f;
   }
@@ -266,7 +274,12 @@ TEST_CASE("portals: aimed walks put many more of a frame's VPLs in the room, on 
     const double plain = share_in_room(0.0f), aimed = share_in_room(0.5f);
     INFO(scene.name << ": share of VPLs in the room " << plain << " unaimed, " << aimed << " aimed");
     CHECK(aimed > 3.0 * plain);
-    CHECK(aimed > 0.3);
+    // Measured 0.29 (two windows) and above 0.3 (one): half of the sun's aimed particles pass
+    // the openings found rather than land on the sunlit points the view shows, which puts some
+    // of them on the sunlit walls and ground outside beside the windows' frames, in return for
+    // the sun's light on what the view does not show (the sun-only window room's relMSE at 16
+    // VPLs: a quarter; docs/sky.md).
+    CHECK(aimed > 0.25);
   }
   // The same VPLs from the reference backend (the portals' rays and the walks are traced alike).
   const Scene scene = two_window_room();

@@ -259,14 +259,22 @@ struct Portals {
   std::vector<std::vector<AimPoint>> sunlit{};
   std::vector<AimPoint> sky_points{};     ///< View points from which a ray towards the environment left the scene.
   std::vector<glm::vec3> sky_directions{}; ///< Those rays' unit directions, towards the sky.
-  /// Where each of those rays passes its opening (a window's frame beside it), spread about as
-  /// far as the next such point: the sky's particles aimed there enter by any direction.
-  std::vector<AimPoint> sky_openings{};
+  /// Where rays from the view's points that left the scene pass their openings (a window's frame
+  /// beside them; a ray's start where open sky is all around it), spread about as far as the
+  /// next such point: the sky's rays, one for each of sky_points, or without an environment rays
+  /// about the points' normals. The sky's particles aimed there by its own directions enter
+  /// through the whole opening.
+  std::vector<AimPoint> openings{};
+  /// Those of `openings` that have a frame (the rest are the start of a ray in the open, where the
+  /// sunlit points already aim), spread among themselves: a directional light's particles are
+  /// also aimed through these, so its light reaches what no view point shows lit (a window's
+  /// sill, the floor behind the furniture) and bounces into the room.
+  std::vector<AimPoint> framed_openings{};
   float share = 0.0f;                     ///< Fraction of the particles aimed, in [0, 1).
   /// True if some particle would be aimed.
   bool any() const noexcept {
     if (!(share > 0.0f)) return false;
-    if (!sky_points.empty()) return true;
+    if (!sky_points.empty() || !framed_openings.empty()) return true;
     for (const auto& points : sunlit)
       if (!points.empty()) return true;
     return false;
@@ -352,32 +360,39 @@ class DirectionalEmitter {
     orthonormal_basis(direction_, t1_, t2_);
   }
   /// The light with a `share` of its particles aimed at `targets` (view points it reaches from
-  /// outside, Portals::sunlit): they start within the targets' spread of their lines; none if empty.
+  /// outside, Portals::sunlit) and through `openings` (Portals::framed_openings), half each when both
+  /// are given: they start within a point's spread of its line; none aimed if both are empty.
   DirectionalEmitter(const glm::vec3& direction, const glm::vec3& irradiance, const Bounds& scene_bounds,
-                     std::vector<AimPoint> targets, float share)
+                     std::vector<AimPoint> targets, float share, std::vector<AimPoint> openings = {})
       : DirectionalEmitter(direction, irradiance, scene_bounds) {
-    if (!targets.empty() && share > 0.0f && share < 1.0f) {
+    if ((!targets.empty() || !openings.empty()) && share > 0.0f && share < 1.0f) {
       targets_ = std::move(targets);
+      openings_ = std::move(openings);
       share_ = share;
     }
   }
   /// Irradiance x disc area.
   glm::vec3 power() const noexcept { return irradiance_ * (std::numbers::pi_v<float> * radius_ * radius_); }
-  /// A point on the disc from (u1, u2): uniform over it, or with an aimed share (picked by u3,
-  /// the target by u4) about a target's line (aim_kernel); flux irradiance / density.
+  /// A point on the disc from (u1, u2): uniform over it, or with an aimed share (picked by u3;
+  /// the target or the opening by u4) about a point's line (aim_kernel); flux irradiance / density.
   EmissionSample sample_emission(float u1, float u2, float u3, float u4) const noexcept {
     EmissionSample sample;
     sample.origin = light_detail::disc_point(center_, t1_, t2_, radius_, u1, u2);
     sample.flux = power();
-    if (!targets_.empty()) {
+    if (share_ > 0.0f) {
       if (light_detail::split(u3, share_).first) {
-        const AimPoint& target = targets_[std::min(std::size_t(u4 * float(targets_.size())), targets_.size() - 1)];
+        const auto [at_target, v] = light_detail::split(u4, targets_share());
+        const std::vector<AimPoint>& points = at_target ? targets_ : openings_;
+        const AimPoint& target = points[std::min(std::size_t(v * float(points.size())), points.size() - 1)];
         sample.origin = light_detail::aim_point(light_detail::on_disc_plane(target, center_, direction_), t1_, t2_,
                                                 target.spread, u1, u2);
       }
+      const auto aimed_at = [&](const std::vector<AimPoint>& points) {
+        return light_detail::aimed_density(sample.origin, center_, direction_, points, [](std::size_t) { return 1.0f; });
+      };
+      const float to_targets = targets_share();
       const float density = (1.0f - share_) * light_detail::disc_density(sample.origin, center_, radius_) +
-                            share_ * light_detail::aimed_density(sample.origin, center_, direction_, targets_,
-                                                                 [](std::size_t) { return 1.0f; });
+                            share_ * (to_targets * aimed_at(targets_) + (1.0f - to_targets) * aimed_at(openings_));
       sample.flux = density > 0.0f ? irradiance_ / density : glm::vec3(0.0f);
     }
     sample.direction = direction_;
@@ -390,8 +405,12 @@ class DirectionalEmitter {
  private:
   glm::vec3 direction_, irradiance_, center_{0.0f}, t1_{1, 0, 0}, t2_{0, 1, 0};
   float radius_ = 0.0f;
-  std::vector<AimPoint> targets_;  ///< View points the aimed particles go to; empty: none aimed.
-  float share_ = 0.0f;
+  std::vector<AimPoint> targets_;   ///< Sunlit view points the aimed particles go to.
+  std::vector<AimPoint> openings_;  ///< Openings they pass through.
+  float share_ = 0.0f;              ///< Of all particles, the aimed ones (0: none).
+  /// Of the aimed particles, those aimed at the targets: half when there are openings too, an
+  /// even split (the targets are what the view shows lit, the openings all the light can reach).
+  float targets_share() const noexcept { return openings_.empty() ? 1.0f : targets_.empty() ? 0.0f : 0.5f; }
 };
 
 /// The environment (a sky) as a light. Its direct light reaches the view through a few
@@ -413,7 +432,7 @@ class EnvironmentLight {
   }
   /// The light with a `share` of its particles aimed along the escape rays (`points`,
   /// unit `directions` towards the sky; Portals::sky_points, sky_directions) and through their
-  /// `openings` (Portals::sky_openings; the points themselves if empty or of another count):
+  /// `openings` (Portals::openings; the points themselves if empty or of another count):
   /// see sample_emission. None aimed if there are no points.
   EnvironmentLight(std::shared_ptr<const Environment> environment, const Bounds& scene_bounds, std::vector<AimPoint> points,
                    std::vector<glm::vec3> directions, float share, std::vector<AimPoint> openings = {})
@@ -607,8 +626,9 @@ class LightSet {
             add(SpotEmitter(light.position, light.direction, radiant, light.inner_cone, light.outer_cone));
             break;
           case PunctualKind::directional:
-            if (aimed && index < portals->sunlit.size() && !portals->sunlit[index].empty())
-              add(DirectionalEmitter(light.direction, radiant, bounds, portals->sunlit[index], portals->share));
+            if (aimed && index < portals->sunlit.size())
+              add(DirectionalEmitter(light.direction, radiant, bounds, portals->sunlit[index], portals->share,
+                                     portals->framed_openings));
             else
               add(DirectionalEmitter(light.direction, radiant, bounds));
             break;
@@ -620,7 +640,7 @@ class LightSet {
     if (scene.environment && scene.environment->emits()) {
       if (aimed && !portals->sky_points.empty())
         add(EnvironmentLight(scene.environment, bounds, portals->sky_points, portals->sky_directions, portals->share,
-                             portals->sky_openings));
+                             portals->openings));
       else
         add(EnvironmentLight(scene.environment, bounds));
     }

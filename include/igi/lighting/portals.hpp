@@ -129,11 +129,11 @@ inline void set_spreads(std::vector<AimPoint>& points, float offset, float alone
 /// surface (a frame surrounds an opening; furniture beside the ray is on one side), and of
 /// those the farthest along the escape ray (the frame lies beyond what the ray passed on its
 /// way). Measured in the two-window room, 9 in 10 of the points so found lie within 0.5 m of a
-/// window (with the nearest hit of the first angle that meets any surface, 8 in 10). `start`
-/// itself where no angle does (open sky all around).
+/// window (with the nearest hit of the first angle that meets any surface, 8 in 10). None where
+/// no angle does (open sky all around).
 template <class Tracer, class Shader>
   requires SurfaceShader<Shader, 1>
-glm::vec3 opening_point(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
+std::optional<glm::vec3> opening_point(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
                         const glm::vec3& start, const glm::vec3& to_sky, float offset) {
   glm::vec3 side1, side2;
   orthonormal_basis(to_sky, side1, side2);
@@ -149,7 +149,7 @@ glm::vec3 opening_point(const Scene& scene, const SceneGeometry& geometry, const
     }
     if (hits >= 2) return start + to_sky * farthest;
   }
-  return start;
+  return std::nullopt;
 }
 
 /// At most `most` of `items`, evenly spaced (all if fewer).
@@ -199,7 +199,9 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
                       seen.push_back({hit->surface.position[0], normal, cell});
                     });
   // Where light from far away reaches `points` (the view's, or those they see): each point's
-  // rays towards the directional lights and `sky_rays` towards the sky that leave the scene.
+  // rays towards the directional lights and `sky_rays` towards the sky that leave the scene (by
+  // the environment's own distribution; without one, about the point's normal, which finds the
+  // openings a directional light's particles are also aimed through).
   struct Escape {
     AimPoint aim;         // The point the ray starts from, with its spread.
     glm::vec3 start;      // The ray's origin: the point lifted off its surface.
@@ -223,14 +225,17 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
             !first_opaque_hit(scene, geometry, tracer, shader, start_point, to_light, 0.0f, offset, true))
           portals.sunlit[l].push_back(aims[i]);
       }
-      if (!sky) continue;
       for (int k = 0; k < sky_rays; ++k) {
         const std::uint32_t cell = points[i].cell;
-        const EnvironmentSample s = scene.environment->sample(to_unit_float(hash(cell, std::uint32_t(2 + 2 * k))),
-                                                              to_unit_float(hash(cell, std::uint32_t(3 + 2 * k))));
-        if (!(s.pdf > 0.0f) || !(glm::dot(s.direction, points[i].normal) > 0.0f)) continue;
-        if (!first_opaque_hit(scene, geometry, tracer, shader, start_point, s.direction, 0.0f, offset, true))
-          escapes.push_back({aims[i], start_point, s.direction});
+        const float u1 = to_unit_float(hash(cell, std::uint32_t(2 + 2 * k))), u2 = to_unit_float(hash(cell, std::uint32_t(3 + 2 * k)));
+        glm::vec3 direction = sample_cosine_hemisphere(points[i].normal, u1, u2);
+        if (sky) {
+          const EnvironmentSample s = scene.environment->sample(u1, u2);
+          if (!(s.pdf > 0.0f) || !(glm::dot(s.direction, points[i].normal) > 0.0f)) continue;
+          direction = s.direction;
+        }
+        if (!first_opaque_hit(scene, geometry, tracer, shader, start_point, direction, 0.0f, offset, true))
+          escapes.push_back({aims[i], start_point, direction});
       }
     }
   };
@@ -254,19 +259,24 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
   add_openings(beyond, portal_beyond_sky_rays);
   portals.share = share;
   for (auto& points : portals.sunlit) points = portal_detail::thinned(points, portal_most_rays);
-  // The sky's escape rays, and where each passes its opening: the sky's light enters a room
-  // through the whole opening from every direction it admits, so particles aimed at the points
-  // of the opening with the sky's own directions pass it far more often than those aimed at the
-  // view's points, which reach most of them only through walls and ceilings (measured in the
-  // window, blinds and two-window rooms: 3-4x more enter, and the room's sky light per
-  // particle has a tenth of the variance).
+  // The escape rays, and where each passes its opening: the sky's light enters a room through
+  // the whole opening from every direction it admits, so particles aimed at the points of the
+  // opening with the sky's own directions pass it far more often than those aimed at the view's
+  // points, which reach most of them only through walls and ceilings (measured in the window,
+  // blinds and two-window rooms: 3-4x more enter, and the room's sky light per particle has a
+  // tenth of the variance).
   for (const Escape& escape : portal_detail::thinned(escapes, portal_most_rays)) {
-    portals.sky_points.push_back(escape.aim);
-    portals.sky_directions.push_back(escape.direction);
-    portals.sky_openings.push_back(
-        {.point = portal_detail::opening_point(scene, geometry, tracer, shader, escape.start, escape.direction, offset)});
+    if (sky) {
+      portals.sky_points.push_back(escape.aim);
+      portals.sky_directions.push_back(escape.direction);
+    }
+    const std::optional<glm::vec3> opening =
+        portal_detail::opening_point(scene, geometry, tracer, shader, escape.start, escape.direction, offset);
+    portals.openings.push_back({.point = opening.value_or(escape.start)});
+    if (opening) portals.framed_openings.push_back({.point = *opening});
   }
-  portal_detail::set_spreads(portals.sky_openings, offset, alone);
+  portal_detail::set_spreads(portals.openings, offset, alone);
+  portal_detail::set_spreads(portals.framed_openings, offset, alone);
   return portals;
 }
 
