@@ -14,7 +14,7 @@ writes OUT_DIR/delta_lights.csv and OUT_DIR/delta_lights_findings.txt.
 import statistics
 
 from filters import SAMPLER, SEEDS
-from methods import arguments_and_references, compare, render, scene_arguments, write_csv
+from methods import INDEPENDENT_FRAMES, arguments_and_references, compare, render, scene_arguments, write_csv
 
 VPLS = 16
 FRAMES = 3  # timed frames per run; the last one is compared
@@ -33,7 +33,7 @@ def main():
                     times, relmse, rmse = [], [], []
                     for seed in SEEDS:
                         test = work / f"delta_{scene}_{filter_name}_{antialiasing}_{way}_{seed}.pfm"
-                        stats = render(build, scene_arguments(scene, scenes_dir) + options +
+                        stats = render(build, scene_arguments(scene, scenes_dir) + INDEPENDENT_FRAMES + options +
                                        ["--filter", filter_name, "--vpl-sampler", SAMPLER[scene], "--vpls", str(VPLS),
                                         "--aa", str(antialiasing), "--frames", str(FRAMES), "--seed", str(seed)], test)
                         error = compare(build, reference, test)

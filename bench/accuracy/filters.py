@@ -30,7 +30,8 @@ import matplotlib
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt
 
-from methods import SIZE, VPLS, arguments_and_references, compare, render, scene_arguments, write_csv
+from methods import (INDEPENDENT_FRAMES, SIZE, VPLS, arguments_and_references, compare, render, scene_arguments,
+                     write_csv)
 
 FILTERS = ["discontinuity", "atrous"]
 SEEDS = list(range(1, 9))
@@ -62,9 +63,9 @@ def main():
         sampler = SAMPLER[scene]
         for vpls in VPLS:
             def arguments(filter_name, frames, seed):
-                return scene_arguments(scene, scenes_dir) + ["--filter", filter_name, "--vpl-sampler", sampler,
-                                                             "--vpls", str(vpls), "--frames", str(frames),
-                                                             "--seed", str(seed)]
+                return scene_arguments(scene, scenes_dir) + INDEPENDENT_FRAMES + [
+                    "--filter", filter_name, "--vpl-sampler", sampler, "--vpls", str(vpls), "--frames", str(frames),
+                    "--seed", str(seed)]
             times = {filter_name: [] for filter_name in FILTERS}
             for _ in range(TIMING_ROUNDS):
                 for filter_name in FILTERS:

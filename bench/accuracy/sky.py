@@ -92,8 +92,9 @@ def image_mean(path):
 
 
 def render(build, arguments, output, timeout=TIMEOUT):
+    # --temporal 0: every run measures single frames (igi-render averages its --frames by default).
     command = [str(Path(build) / "examples/render/igi-render"), *arguments, "--size", SIZE, "--threads", "2",
-               "-o", str(output), "--stats", "json"]
+               "--temporal", "0", "-o", str(output), "--stats", "json"]
     result = subprocess.run(command, check=True, capture_output=True, text=True, timeout=timeout)
     return json.loads(result.stdout.strip().splitlines()[-1])
 

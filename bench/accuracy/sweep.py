@@ -229,8 +229,10 @@ class Sweep:
         if settings["integrator"] == "path":
             command += ["--integrator", "path", "--spp", str(settings["spp"]), "--frames", "1"]
         else:
+            # --temporal 0: the sweep measures single frames (igi-render averages its --frames by default).
             command += ["--vpls", str(settings["vpls"]), "--interleave", str(settings["interleave"]),
-                        "--filter", settings["filter"], "--aa", str(settings["aa"]), "--frames", str(self.frames)]
+                        "--filter", settings["filter"], "--aa", str(settings["aa"]), "--frames", str(self.frames),
+                        "--temporal", "0"]
             if settings["clamp_factor"] is not None:
                 clamp = settings["clamp_factor"] * AUTOMATIC_CLAMP_FRACTION * self.diagonal
                 command += ["--clamp", f"{clamp:.6g}"]

@@ -17,7 +17,7 @@
 //   animation_bench --write-gltf skinned.gltf
 //                          writes the grid scene (with a camera and a point light) as glTF instead,
 //                          for the whole-frame measure: igi-render skinned.gltf --play against
-//                          the same file still.
+//                          the same file still (both with --temporal 0, frames by themselves).
 
 #include <algorithm>
 #include <chrono>

@@ -3,7 +3,8 @@
 is alpha-masked, glTF alphaMode MASK), a camera at eye height and a low sun. 2 TREES + 3 nodes.
 
 usage: python3 bench/scenes/forest.py TREES OUT_DIR   (writes OUT_DIR/forest_TREES.gltf and leaf.png)
-Then e.g. igi-render OUT_DIR/forest_2000.gltf --size 640x480 --vpls 12 --frames 5 --stats json.
+Then e.g. igi-render OUT_DIR/forest_2000.gltf --size 640x480 --vpls 12 --frames 5 --temporal 0 --stats json
+(--temporal 0: single frames, each by itself, as the timings of docs/performance.md).
 Deterministic (seeded): the same TREES gives the same file.
 """
 

@@ -4,6 +4,7 @@
 // tiles per worker. Options are igi-render's (examples/common/render_options.hpp), plus
 // --animate, --play and --camera-path (the file's own animation and a walkthrough, sampled on
 // rank 0 and broadcast as each frame's scene changes), --every-frame, the scheduling knobs and the --slow-rank test hook.
+// Not igi-render's --temporal: every frame is rendered by itself (igi-render --temporal 0's frames).
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -136,7 +137,9 @@ int main(int argc, char** argv) {
   const int rank = mpi.rank();
   Options options;
   CommandLine command_line{"igi-cluster", "igi-render's IGI pipeline as the paper's tile farm on MPI (mpirun -np N igi-cluster ...)"};
-  add_render_options(command_line, options, "threads per rank (0: all cores)", "frames to render (indices 0..F-1)");
+  add_render_options(command_line, options, "threads per rank (0: all cores)",
+                     "frames to render (indices 0..F-1), each by itself as in the paper (igi-render's default temporal "
+                     "reuse needs every pixel's history, and a tile goes to any rank)");
   add_animate_option(command_line, options.animate, "dynamic scene: a deterministic function of the frame index");
   add_play_options(command_line, options);
   command_line.flag("--every-frame", options.every_frame,

@@ -63,6 +63,10 @@ CommandLineOption CommandLine::add(const std::string& names, double& value, cons
   return CommandLineOption(app_->add_option(names, value, help));
 }
 
+CommandLineOption CommandLine::add(const std::string& names, std::optional<int>& value, const std::string& help) {
+  return CommandLineOption(app_->add_option_function<int>(names, [&value](const int& given) { value = given; }, help));
+}
+
 void CommandLine::flag(const std::string& names, bool& value, const std::string& help) {
   app_->add_flag(names, value, help);
 }

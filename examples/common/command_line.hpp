@@ -64,6 +64,9 @@ class CommandLine {
   CommandLineOption add(const std::string& names, float& value, const std::string& help);
   /// An option such as "-o,--output" (a positional argument when `names` has no leading dash) that sets `value`.
   CommandLineOption add(const std::string& names, double& value, const std::string& help);
+  /// An option such as "--temporal" that sets `value` when given and leaves it empty otherwise, for
+  /// a default the program resolves after parsing (from other options).
+  CommandLineOption add(const std::string& names, std::optional<int>& value, const std::string& help);
   /// A flag that sets `value` to true when given.
   void flag(const std::string& names, bool& value, const std::string& help);
 

@@ -5,6 +5,7 @@
 // arguments from this same table, so every igi-render option is one of its keywords by name.
 
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -18,6 +19,9 @@ struct IgiRenderOptions : RenderOptions, PlayOptions {
   std::string animate = "none";  ///< What moves from frame to frame (none: a still scene).
   bool profile = false;          ///< Time each pipeline stage (stats: stage_cpu_ms).
   bool aov = false;              ///< Also write the G-buffer images (write_aovs) beside each image.
+  /// --temporal as given; unset, check_igi_render_options chooses default_temporal_frames for IGI
+  /// frames and 0 for the path tracer.
+  std::optional<int> temporal;
 };
 
 /// Adds every option of igi-render to `command_line`.
@@ -28,7 +32,9 @@ inline void add_igi_render_options(CommandLine& command_line, IgiRenderOptions& 
                      "render --frames frames of a moving scene to an image sequence: -o out.png writes out_0000.png, "
                      "out_0001.png, ...; -o frames/%04d.png numbers them printf-style. light: the lights circle, "
                      "object: the smallest object slides, camera: the view orbits the scene");
-  add_temporal_option(command_line, options.settings);
+  add_temporal_option(command_line, options.temporal,
+                      "By default " + std::to_string(default_temporal_frames) +
+                          " frames with --integrator igi (the path tracer accumulates its passes anyway)");
   add_play_options(command_line, options);
   command_line.flag("--aov", options.aov,
                     "also write the G-buffer beside each image, for a denoiser or compositing: the first hit's albedo, "
@@ -39,13 +45,14 @@ inline void add_igi_render_options(CommandLine& command_line, IgiRenderOptions& 
                     "stage_cpu_ms (the clock reads make the frames 2-9% slower)");
 }
 
-/// Checks the combinations the option checks cannot (check_render_options, then igi-render's
-/// own); throws UsageError naming the problem. `sequences` says whether --output names an image
+/// Resolves --temporal's default into the settings and checks the combinations the option checks
+/// cannot (check_render_options, then igi-render's own); throws UsageError naming the problem. `sequences` says whether --output names an image
 /// sequence to check (igi-render writes files; the Python module does not).
 inline void check_igi_render_options(IgiRenderOptions& options, bool sequences = true) {
-  check_render_options(options);
-  if (options.settings.temporal_frames > 0 && options.integrator != "igi")
+  if (options.temporal.value_or(0) > 0 && options.integrator != "igi")
     throw UsageError("--temporal averages IGI frames: it needs --integrator igi (the path tracer accumulates its passes anyway)");
+  options.settings.temporal_frames = options.temporal.value_or(options.integrator == "igi" ? default_temporal_frames : 0);
+  check_render_options(options);
   if (options.animate != "none") {
     if (options.integrator != "igi")
       throw UsageError("--animate renders with --integrator igi only (the path tracer accumulates one still image)");

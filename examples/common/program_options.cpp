@@ -131,14 +131,14 @@ void add_sampling_options(CommandLine& command_line, RenderSettings& settings) {
       .show_default();
 }
 
-void add_temporal_option(CommandLine& command_line, RenderSettings& settings) {
-  command_line.add("--temporal", settings.temporal_frames,
+void add_temporal_option(CommandLine& command_line, std::optional<int>& temporal, const std::string& default_help) {
+  command_line.add("--temporal", temporal,
                    "temporal reuse: each pixel averages up to this many frames of its history, reprojected with the "
                    "camera's motion, dropped where another surface shows and clamped to the new frame's neighbourhood "
-                   "where the scene changed; while the view "
-                   "stays still the clamp shrinks, so the image converges towards the unclamped one (0: off)")
-      .range(0, max_temporal_frames)
-      .show_default();
+                   "where the scene changed; while the view stays still the clamp shrinks, so the image converges "
+                   "towards the unclamped one. " + default_help +
+                   "; 0: off, every frame rendered by itself as in the paper")
+      .range(0, max_temporal_frames);
 }
 
 void add_filter_options(CommandLine& command_line, std::string& filter, RenderSettings& settings) {

@@ -1,6 +1,8 @@
 // igi-view: an interactive window on the IGI pipeline. Renders a glTF scene or the built-in
-// Cornell box continuously; the camera, the light and the settings change at a key press, and a
-// still view converges by progressive accumulation of new VPL sets. `--frames N` makes it a
+// Cornell box continuously; the camera, the light and the settings change at a key press. Temporal
+// reuse averages each pixel's history of 32 frames across camera motion; with `--temporal 0` (or
+// the T key) a still view converges by progressive accumulation of new VPL sets instead and
+// restarts at any change. `--frames N` makes it a
 // fixed-length (testable) run, `--animate` moves the light or camera, `--play` plays the file's
 // own animation (K plays and pauses it, [ and ] step through it), `--screenshot` saves what the
 // window shows.
@@ -126,6 +128,7 @@ struct Options : igi::programs::SceneOptions {
   int packet = igi::native_packet_width;  ///< Packet width at the start: one native register, as igi-render's.
   int frames = 0;                        ///< Frames before quitting (0: until closed).
   igi::RenderSettings settings;          ///< The IGI settings at the start.
+  std::optional<int> temporal;           ///< --temporal as given; unset: default_temporal_frames.
 };
 
 /// Index of the first element of `range` equal to `value` under `same`, or -1.
@@ -483,9 +486,8 @@ class Viewer {
   std::optional<igi::AnimationPlayer> player_;  ///< The file's animation (none without one).
   bool playing_ = false;                        ///< Whether it advances by play_step each frame.
   double play_time_ = 0.0;                      ///< Seconds into it the scene is posed at.
-  /// History length the T key switches temporal reuse on with: --temporal's, else 32 frames
-  /// (a second at 30 fps: long enough to smooth 16-VPL noise, short enough to follow a moving view).
-  int temporal_frames_when_on_ = 32;
+  /// History length the T key switches temporal reuse on with: --temporal's, else the programs' default.
+  int temporal_frames_when_on_ = igi::programs::default_temporal_frames;
 };
 
 }  // namespace
@@ -502,7 +504,9 @@ int main(int argc, char** argv) {
   igi::programs::add_backend_options(command_line, options.backend, options.packet);
   igi::programs::add_threads_option(command_line, options.settings.threads, "worker threads (0: all cores)");
   igi::programs::add_seed_option(command_line, options.settings.seed);
-  igi::programs::add_temporal_option(command_line, options.settings);
+  igi::programs::add_temporal_option(command_line, options.temporal,
+                                     "By default " + std::to_string(igi::programs::default_temporal_frames) +
+                                         " frames (the T key switches it off and on)");
   command_line.add("--frames", options.frames, "quit after this many frames (0: run until closed)").range(0, 1000000).show_default();
   igi::programs::add_animate_option(command_line, options.animate,
                                     "what moves from the first frame: light: the light circles, camera: the view orbits the scene",
@@ -516,6 +520,7 @@ int main(int argc, char** argv) {
     const igi::programs::ImageSize size = igi::programs::parse_image_size(options.size);
     options.settings.width = size.width;
     options.settings.height = size.height;
+    options.settings.temporal_frames = options.temporal.value_or(igi::programs::default_temporal_frames);
     igi::programs::check_scene_options(options);
     // The reference and saarcor backends come in one packet width each here.
     if (options.backend == "reference") options.packet = 8;

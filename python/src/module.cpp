@@ -158,6 +158,10 @@ IgiRenderOptions options_from(const py::kwargs& keywords) {
     arguments.push_back("--size=" + std::to_string(width.value_or(640)) + "x" + std::to_string(height.value_or(480)));
   }
   command_line.parse_arguments(arguments);
+  // A Renderer renders the frames it is asked for, in any order and again (render(frame=i)), so
+  // each frame stands by itself unless temporal= asks for a history: the library's default, not
+  // igi-render's, whose --frames run renders its frames in order.
+  if (!options.temporal) options.temporal = 0;
   options.scene_file = "<igi.Scene>";  // the scene is the Renderer's argument, not a file to read
   programs::check_igi_render_options(options, /*sequences=*/false);
   if (options.integrator == "igi" && options.frames != 1)

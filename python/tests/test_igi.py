@@ -121,7 +121,7 @@ def test_hdr_equals_igi_renders_pfm_bit_for_bit(tmp_path, cornell, backend, opti
 
 @needs_igi_render
 def test_an_animated_sequence_and_a_files_animation_equal_igi_render(tmp_path, cornell):
-    options = {**SMALL, "vpls": 4, "animate": "object", "frames": 3}
+    options = {**SMALL, "vpls": 4, "animate": "object", "frames": 3, "temporal": 0}  # frames by themselves
     renderer = igi.Renderer(cornell, **{k: v for k, v in options.items() if k != "frames"})
     frames = [renderer.render(frame=i).hdr.copy() for i in range(3)]
     igi_render(tmp_path, ["--builtin", "cornell"], options, output="seq.pfm")
@@ -143,7 +143,7 @@ def test_an_animated_sequence_and_a_files_animation_equal_igi_render(tmp_path, c
 def test_a_walk_along_a_camera_path_equals_igi_render(tmp_path):
     room_path = REPOSITORY / "bench" / "walkthrough" / "paths" / "room.gltf"
     window = igi.builtin("window")
-    options = {**SMALL, "vpls": 4, "camera_path": str(room_path), "fps": 2, "frames": 3}
+    options = {**SMALL, "vpls": 4, "camera_path": str(room_path), "fps": 2, "frames": 3, "temporal": 0}
     renderer = igi.Renderer(window, **{k: v for k, v in options.items() if k != "frames"})
     frames = [renderer.render(frame=i).hdr.copy() for i in range(3)]
     igi_render(tmp_path, ["--builtin", "window"], options, output="walk.pfm")
@@ -154,13 +154,20 @@ def test_a_walk_along_a_camera_path_equals_igi_render(tmp_path):
 
 @needs_igi_render
 def test_statistics_are_igi_renders_stats_json(tmp_path, cornell):
-    options = {**SMALL, "vpls": 8}
+    options = {**SMALL, "vpls": 8, "temporal": 0}  # the Renderer's default; igi-render's is 32
     statistics = igi.Renderer(cornell, **options).render().statistics
     printed = json.loads(igi_render(tmp_path, ["--builtin", "cornell"], options, stats=True))
     assert set(statistics) == set(printed)
     for name in set(printed) - TIMINGS - {"output"}:
         assert statistics[name] == printed[name], name
     assert statistics["ms_per_frame"] > 0.0
+
+
+@needs_igi_render
+def test_temporal_reuse_is_off_unless_asked_where_igi_render_has_it_on(tmp_path, cornell):
+    assert igi.Renderer(cornell, **SMALL).render().statistics["temporal_frames"] == 0
+    assert igi.Renderer(cornell, **SMALL, temporal=8).render().statistics["temporal_frames"] == 8
+    assert json.loads(igi_render(tmp_path, ["--builtin", "cornell"], SMALL, stats=True))["temporal_frames"] == 32
 
 
 @needs_igi_render

@@ -1,5 +1,6 @@
 // The pieces every program's command line is made of: the WIDTHxHEIGHT parser, the median the
-// programs report timings by, the --stats json writer and the backend dispatch.
+// programs report timings by, the --stats json writer, the backend dispatch and igi-render's
+// default of --temporal.
 #include <string>
 #include <vector>
 
@@ -8,6 +9,7 @@
 
 #include "common/backend_choice.hpp"
 #include "common/command_line.hpp"
+#include "common/igi_render_options.hpp"
 #include "common/program_options.hpp"
 #include "common/render_options.hpp"
 #include "common/stats_json.hpp"
@@ -171,4 +173,32 @@ TEST_CASE("the backend dispatch runs the listed type of the name and width, and 
   std::vector<int> widths;
   igi::programs::for_each_backend(Backends{}, [&]<class B>() { widths.push_back(B::width); });
   CHECK(widths == std::vector<int>{8, 1, 64});
+}
+
+namespace {
+
+/// igi-render's options after parsing `arguments` (the built-in Cornell box added) and checking them.
+igi::programs::IgiRenderOptions igi_render_options(const std::vector<std::string>& arguments) {
+  igi::programs::IgiRenderOptions options;
+  igi::programs::CommandLine command_line{"igi-render", "test"};
+  igi::programs::add_igi_render_options(command_line, options);
+  std::vector<std::string> words = {"--builtin", "cornell"};
+  words.insert(words.end(), arguments.begin(), arguments.end());
+  command_line.parse_arguments(words);
+  igi::programs::check_igi_render_options(options, /*sequences=*/false);
+  return options;
+}
+
+}  // namespace
+
+TEST_CASE("igi-render averages IGI frames by default, --temporal 0 renders each by itself, the path tracer takes no --temporal N", "[programs]") {
+  CHECK(igi::RenderSettings{}.temporal_frames == 0);  // the library renders independent frames
+  CHECK(igi_render_options({}).settings.temporal_frames == igi::programs::default_temporal_frames);
+  CHECK(igi_render_options({"--temporal", "0"}).settings.temporal_frames == 0);
+  CHECK(igi_render_options({"--temporal", "8"}).settings.temporal_frames == 8);
+  CHECK(igi_render_options({"--integrator", "path"}).settings.temporal_frames == 0);
+  CHECK(igi_render_options({"--integrator", "path", "--temporal", "0"}).settings.temporal_frames == 0);
+  CHECK_THROWS_WITH(igi_render_options({"--integrator", "path", "--temporal", "8"}),
+                    Catch::Contains("needs --integrator igi"));
+  CHECK_THROWS_AS(igi_render_options({"--temporal", "-1"}), UsageError);
 }
