@@ -1,0 +1,131 @@
+// Stability under motion in a window-lit room: the camera walks slowly through the built-in
+// window room under the sun and the sky while igi renders at its programs' defaults (portals,
+// temporal reuse over 32 frames). Against the same frames rendered converged (256 VPLs, one
+// sampling pattern for all frames, so they change only with the view), each frame's image mean
+// must stay steady (no pulsing) and its pixels must not change from frame to frame much more
+// than the converged frames' do (no crawling); and the frame-independent mode of the paper,
+// which the programs give with --temporal 0, must pulse and crawl more.
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "render_support.hpp"
+#include "igi/io/srgb.hpp"
+#include "igi/scene/window_room.hpp"
+
+using namespace igi;
+using namespace igi::testing;
+
+namespace {
+
+/// A renderer of `scene` through Embree with its glTF materials and the discontinuity filter.
+struct RoomRenderer {
+  GltfMaterialShader surface;
+  StandardBrdf brdf;
+  QmcVplSampler sampler;
+  DiscontinuityFilter filter;
+  Renderer<EmbreeBackend<8>, GltfMaterialShader, StandardBrdf, QmcVplSampler, DiscontinuityFilter> renderer;
+  RoomRenderer(Scene& scene, const RenderSettings& settings) : surface(scene), renderer(scene, settings, surface, brdf, sampler, filter) {}
+  Frame render(const Camera& camera, std::uint32_t index) { return renderer.render(camera, index); }
+};
+
+/// A frame's pixels' mean luminance.
+double mean_luminance(const Frame& frame) {
+  double sum = 0.0;
+  for (const glm::vec3& p : frame.hdr.pixels) sum += double(luminance(p));
+  return sum / double(frame.hdr.pixels.size());
+}
+
+/// Summed absolute change of each pixel's luminance from `before` to `after`.
+double change(const Frame& before, const Frame& after) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < after.hdr.pixels.size(); ++i)
+    sum += std::abs(double(luminance(after.hdr.pixels[i])) - double(luminance(before.hdr.pixels[i])));
+  return sum;
+}
+
+/// What a walk through the window room shows at some settings.
+struct Walk {
+  std::vector<double> mean_ratio;  ///< Each measured frame's image mean over the converged frame's.
+  double flicker = 0.0;            ///< Pixels' frame-to-frame change beyond the converged frames', over their summed luminance.
+};
+
+/// The window room's camera `index` frames into a slow walk: 1 cm a frame sideways and a turn of
+/// 0.1 degrees, about a tenth of a pixel at 96 x 64, as a user edging along.
+Camera walked(const Camera& start, std::uint32_t index) {
+  Camera camera = start;
+  const float step = float(index);
+  camera.camera_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(0.01f * step, 0.0f, 0.0f)) * camera.camera_to_world *
+                           glm::rotate(glm::mat4(1.0f), glm::radians(0.1f * step), glm::vec3(0.0f, 1.0f, 0.0f));
+  return camera;
+}
+
+}  // namespace
+
+TEST_CASE("walkthrough: a window-lit room neither pulses nor crawls under a moving camera at the programs' defaults",
+          "[render][temporal][stability]") {
+  Scene scene = with_sky(window_room());
+  RenderSettings settings;
+  settings.width = 96;
+  settings.height = 64;
+  settings.threads = 2;
+  RenderSettings converged_settings = settings;
+  converged_settings.vpls_per_pixel = 256;
+  const Camera start = scene.cameras.front();
+  constexpr std::uint32_t frames = 16;
+  // The first frames build the history up: measured from the fifth on.
+  constexpr std::uint32_t first_measured = 4;
+
+  std::vector<Frame> converged;
+  {
+    Scene copy = scene;
+    RoomRenderer renderer(copy, converged_settings);
+    for (std::uint32_t index = 0; index < frames; ++index) converged.push_back(renderer.render(walked(start, index), 0));
+  }
+  const auto walk = [&](int temporal_frames) {
+    Scene copy = scene;
+    RenderSettings s = settings;
+    s.temporal_frames = temporal_frames;
+    RoomRenderer renderer(copy, s);
+    Walk result;
+    Frame previous;
+    double beyond = 0.0, total = 0.0;
+    for (std::uint32_t index = 0; index < frames; ++index) {
+      Frame frame = renderer.render(walked(start, index), index);
+      if (index >= first_measured) {
+        result.mean_ratio.push_back(mean_luminance(frame) / mean_luminance(converged[index]));
+        beyond += std::max(0.0, change(previous, frame) - change(converged[index - 1], converged[index]));
+        total += mean_luminance(converged[index]) * double(frame.hdr.pixels.size());
+      }
+      previous = std::move(frame);
+    }
+    result.flicker = beyond / total;
+    return result;
+  };
+  const auto variation = [](const std::vector<double>& values) {
+    double mean = 0.0, square = 0.0;
+    for (const double v : values) mean += v;
+    mean /= double(values.size());
+    for (const double v : values) square += (v - mean) * (v - mean);
+    return std::sqrt(square / double(values.size())) / mean;
+  };
+  const Walk defaults = walk(32), paper = walk(0);
+  INFO("image mean over the converged frame's: CV " << variation(defaults.mean_ratio) << " at the defaults, "
+       << variation(paper.mean_ratio) << " frame by frame; flicker " << defaults.flicker << " and " << paper.flicker);
+  // Measured (frames 4-15): the image mean varies by 3.8% at the defaults and 10.1% frame by
+  // frame; the pixels change by 6.3% and 22% beyond the converged frames' change. The walkthrough
+  // benchmark's targets are 2% and 5%; these bounds hold today's 1.5x above what was measured,
+  // so that a change that brings back pulsing or crawling fails here.
+  CHECK(variation(defaults.mean_ratio) < 0.06);
+  CHECK(defaults.flicker < 0.10);
+  // Temporal reuse is what steadies them: the paper's frame-independent mode pulses and crawls
+  // at least twice as much.
+  CHECK(variation(defaults.mean_ratio) < 0.5 * variation(paper.mean_ratio));
+  CHECK(defaults.flicker < 0.5 * paper.flicker);
+  // And no frame is far off its converged image's mean (at most 9% measured).
+  for (const double ratio : defaults.mean_ratio) CHECK(std::abs(ratio - 1.0) < 0.15);
+}
