@@ -13,6 +13,11 @@
 #   --no-build     use the binaries already in the build folder
 #   --frames N     timed frames per configuration (default 3; medians are reported)
 #
+# The walkthroughs (bench/walkthrough/run.sh: per frame error, brightness, flicker and frame time
+# side by side, every method) cache their path-traced references in $IGI_WALK_WORK (default
+# build-dir/walkthrough-references): the first full run renders them (most of its time), later
+# ones only IGI's frames.
+#
 # Needs the Debian packages of scripts/deps.sh, and python3-matplotlib for the charts (charts are
 # skipped with a message if it cannot). The suite itself took 944-951 s on 2 cores at load average
 # 12-15 (other builds running, about a quarter of the cores for it); an idle machine needs less.
@@ -39,7 +44,7 @@ done
 
 total_start=$(date +%s)
 load_before=$(cut -d' ' -f1-3 /proc/loadavg)
-targets=(pipeline_bench scaling_bench shading_bench occlusion16_bench filters_bench)
+targets=(pipeline_bench scaling_bench shading_bench occlusion16_bench filters_bench igi-walkthrough)
 
 if [[ $build == 1 ]]; then
   if [[ ! -f "$build_dir/CMakeCache.txt" ]]; then
@@ -116,6 +121,22 @@ if [[ $smoke == 1 ]]; then
   run filters_bench "$(bin filters filters_bench)" --benchmark_min_time=0.001
 else
   run filters_bench "$(bin filters filters_bench)" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+fi
+
+# The walkthroughs: error and frame time of each method frame by frame while things move.
+walkthrough="$(bin walkthrough igi-walkthrough)"
+if [[ ! -x "$walkthrough" ]]; then
+  echo "run_all.sh: $walkthrough is not built: walkthroughs skipped"
+elif [[ $smoke == 1 ]]; then
+  echo "== walkthrough (smoke): one walk, 32x24, 2 frames, 4-spp references"
+  "$walkthrough" --work "$results/walkthrough-work" --walks window --size 32x24 --frames 2 --reference-spp 4 \
+    > "$results/walkthrough.json"
+else
+  walk_work="${IGI_WALK_WORK:-$build_dir/walkthrough-references}"
+  echo "== walkthrough: references cached in $walk_work"
+  t0=$(date +%s)
+  bash "$here/walkthrough/run.sh" "$build_dir" "$walk_work"
+  echo "== walkthrough: $(( $(date +%s) - t0 )) s"
 fi
 
 seconds=$(( $(date +%s) - start ))
