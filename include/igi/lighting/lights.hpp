@@ -20,6 +20,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -122,6 +123,69 @@ inline glm::vec3 unit_direction(const glm::vec3& v, const std::string& what) {
 }
 }  // namespace light_detail
 
+/// A point particles are aimed at (a view point, an opening), and the radius about its line they start within.
+struct AimPoint {
+  glm::vec3 point{0.0f};  ///< World position.
+  float spread = 0.0f;    ///< Radius about the line through `point`: about the distance to its neighbouring view points.
+};
+
+namespace light_detail {
+/// `target`'s line moved onto the disc's plane (centre `centre`, normal `direction`).
+inline glm::vec3 on_disc_plane(const AimPoint& target, const glm::vec3& centre, const glm::vec3& direction) noexcept {
+  return target.point + direction * glm::dot(centre - target.point, direction);
+}
+/// The aimed particles' start about a target's line: density 2 / (pi r^2) x (1 - d^2 / r^2) at
+/// distance d within its spread r, per unit area. A kernel that falls to zero at its edge, so a
+/// point's density is continuous in the target's position: the float rounding by which backends'
+/// hit points differ moves a particle's weight by as little, where a uniform disc's edge would
+/// flip it between two weights.
+inline float aim_kernel(float distance2, float spread) noexcept {
+  const float spread2 = spread * spread;
+  return distance2 < spread2 ? 2.0f / (std::numbers::pi_v<float> * spread2) * (1.0f - distance2 / spread2) : 0.0f;
+}
+/// A point drawn from aim_kernel about `centre` (in the plane spanned by `t1`, `t2`) from (u1, u2):
+/// with s = d^2 / r^2 of density 2 (1 - s), s = 1 - sqrt(1 - u1).
+inline glm::vec3 aim_point(const glm::vec3& centre, const glm::vec3& t1, const glm::vec3& t2, float spread, float u1,
+                           float u2) noexcept {
+  const float r = spread * std::sqrt(std::max(0.0f, 1.0f - std::sqrt(1.0f - u1))), phi = 2.0f * std::numbers::pi_v<float> * u2;
+  return centre + t1 * (r * std::cos(phi)) + t2 * (r * std::sin(phi));
+}
+/// Density, per unit area of the plane through the disc, of points aimed at `targets` (each
+/// moved along `direction` onto that plane: the disc's centre is `centre`, its normal
+/// `direction`) by aim_kernel, each target equally likely, weighted by `weight(k)` (a direction's
+/// kernel, or 1); 0 for no targets.
+template <class Weight>
+float aimed_density(const glm::vec3& point, const glm::vec3& centre, const glm::vec3& direction,
+                    const std::vector<AimPoint>& targets, const Weight& weight) noexcept {
+  if (targets.empty()) return 0.0f;
+  float density = 0.0f;
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    const float w = weight(k);
+    if (!(w > 0.0f)) continue;
+    const glm::vec3 offset = point - on_disc_plane(targets[k], centre, direction);
+    density += w * aim_kernel(glm::dot(offset, offset), targets[k].spread);
+  }
+  return density / float(targets.size());
+}
+/// Density of the uniform point on the disc of `radius` about `centre` (in its plane): 1 / area inside, 0 outside.
+inline float disc_density(const glm::vec3& point, const glm::vec3& centre, float radius) noexcept {
+  const glm::vec3 offset = point - centre;
+  return radius > 0.0f && glm::dot(offset, offset) <= radius * radius ? 1.0f / (std::numbers::pi_v<float> * radius * radius) : 0.0f;
+}
+/// A uniform point on the disc of `radius` about `centre` spanned by `t1`, `t2`, from (u1, u2).
+inline glm::vec3 disc_point(const glm::vec3& centre, const glm::vec3& t1, const glm::vec3& t2, float radius, float u1,
+                            float u2) noexcept {
+  const float r = radius * std::sqrt(u1), phi = 2.0f * std::numbers::pi_v<float> * u2;
+  return centre + t1 * (r * std::cos(phi)) + t2 * (r * std::sin(phi));
+}
+/// `u` in [0, 1) split at `share`: whether it fell below, and it rescaled to [0, 1) within its part.
+inline std::pair<bool, float> split(float u, float share) noexcept {
+  constexpr float below_one = 0x1.fffffep-1f;
+  if (u < share) return {true, std::min(u / share, below_one)};
+  return {false, std::min((u - share) / (1.0f - share), below_one)};
+}
+}  // namespace light_detail
+
 /// A world-space triangle of uniform emitted radiance (an area light), Lambertian, emitting
 /// from its front face (counter-clockwise side) or from both faces.
 class TriangleEmitter {
@@ -136,10 +200,25 @@ class TriangleEmitter {
     area_ = 0.5f * length;
     normal_ = length > 0.0f ? c / length : glm::vec3(0.0f, 0.0f, 1.0f);
   }
+  /// The triangle with a `share` of its particles aimed through `openings` (Portals::emitter_openings
+  /// of its instance: an emitter outside a window, seen through it); none aimed if there are none.
+  TriangleEmitter(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, const glm::vec3& radiance,
+                  bool double_sided, std::shared_ptr<const std::vector<AimPoint>> openings, float share)
+      : TriangleEmitter(p0, p1, p2, radiance, double_sided) {
+    if (openings && !openings->empty() && share > 0.0f && share < 1.0f) {
+      openings_ = std::move(openings);
+      share_ = share;
+    }
+  }
   /// Radiance x area x pi per emitting face.
   glm::vec3 power() const noexcept { return radiance_ * (area_ * std::numbers::pi_v<float> * (double_sided_ ? 2.0f : 1.0f)); }
-  /// Uniform point (u1, u2), cosine-distributed direction (u3, u4); u3 also picks the face.
+  /// Uniform point (u1, u2), cosine-distributed direction (u3, u4); u3 also picks the face. With
+  /// openings, u3 first picks an aimed share, whose direction goes from the point to one of the
+  /// openings (picked by u3, rescaled) through its spread (aim_kernel, on the disc across the
+  /// line to it, from u3's rest and u4); flux radiance x cos x area / the mixture's density.
   EmissionSample sample_emission(float u1, float u2, float u3, float u4) const noexcept {
+    bool aimed = false;
+    if (share_ > 0.0f) std::tie(aimed, u3) = light_detail::split(u3, share_);
     const float s = std::sqrt(u1);
     const glm::vec3 position = p0_ + e1_ * (s * (1.0f - u2)) + e2_ * (s * u2);
     glm::vec3 normal = normal_;
@@ -156,6 +235,27 @@ class TriangleEmitter {
     sample.origin = position;
     sample.direction = sample_cosine_hemisphere(normal, u3, u4);
     sample.flux = power();
+    if (share_ > 0.0f) {
+      if (aimed) {
+        const std::size_t count = openings_->size();
+        const std::size_t k = std::min(std::size_t(u3 * float(count)), count - 1);
+        const float within = std::min(u3 * float(count) - float(k), 0x1.fffffep-1f);
+        const AimPoint& opening = (*openings_)[k];
+        const glm::vec3 axis = opening.point - position;
+        const float distance = glm::length(axis);
+        glm::vec3 t1, t2;
+        orthonormal_basis(axis / std::max(distance, 1e-30f), t1, t2);
+        const glm::vec3 through = light_detail::aim_point(opening.point, t1, t2, opening.spread, u4, within);
+        sample.direction = glm::normalize(through - position);
+      }
+      const float cosine = glm::dot(sample.direction, normal);
+      const float density = cosine > 0.0f ? (1.0f - share_) * cosine * std::numbers::inv_pi_v<float> +
+                                                share_ * aimed_direction_density(position, sample.direction)
+                                          : 0.0f;
+      sample.flux = density > 0.0f && std::isfinite(density)
+                        ? radiance_ * (cosine * area_ * (double_sided_ ? 2.0f : 1.0f) / density)
+                        : glm::vec3(0.0f);
+    }
     sample.vpl.position = position;
     sample.vpl.normal = normal;
     sample.vpl.kind = VplKind::surface;
@@ -166,9 +266,31 @@ class TriangleEmitter {
   float area() const noexcept { return area_; }
 
  private:
+  /// Solid-angle density of the aimed directions at `direction` from `position`: for each
+  /// opening, its kernel's density where the direction's line crosses the disc across the line to
+  /// the opening, times the distance squared over the cosine cubed (the disc's area seen as
+  /// solid angle from the point), averaged over the openings.
+  float aimed_direction_density(const glm::vec3& position, const glm::vec3& direction) const noexcept {
+    float density = 0.0f;
+    for (const AimPoint& opening : *openings_) {
+      const glm::vec3 axis = opening.point - position;
+      const float distance2 = glm::dot(axis, axis);
+      if (!(distance2 > 0.0f)) continue;
+      const float along = glm::dot(direction, axis);  // distance x cos of the angle to the axis
+      if (!(along > 0.0f)) continue;
+      const float cosine = along / std::sqrt(distance2);
+      const glm::vec3 crossing = position + direction * (distance2 / along);
+      const glm::vec3 offset = crossing - opening.point;
+      density += light_detail::aim_kernel(glm::dot(offset, offset), opening.spread) * distance2 / (cosine * cosine * cosine);
+    }
+    return density / float(openings_->size());
+  }
+
   glm::vec3 p0_, e1_, e2_, radiance_, normal_{0.0f, 0.0f, 1.0f};
   float area_ = 0.0f;
   bool double_sided_ = false;
+  std::shared_ptr<const std::vector<AimPoint>> openings_;  ///< Where the aimed particles go through; none: none aimed.
+  float share_ = 0.0f;                                     ///< Of all particles, the aimed ones (0: none).
 };
 
 /// An isotropic point light of radiant intensity `intensity` (W/sr).
@@ -241,11 +363,6 @@ class SpotEmitter {
   float cos_inner_ = 1.0f, cos_outer_ = 0.0f, profile_solid_angle_ = 0.0f;
 };
 
-/// A view point particles are aimed at, and the radius about its line they start within.
-struct AimPoint {
-  glm::vec3 point{0.0f};  ///< World position.
-  float spread = 0.0f;    ///< Radius about the line through `point`: about the distance to its neighbouring view points.
-};
 
 /// Openings through which light from infinitely far away (the sun, the sky) reaches what the
 /// camera sees, found each frame by rays from the view's points that leave the scene
@@ -270,11 +387,19 @@ struct Portals {
   /// also aimed through these, so its light reaches what no view point shows lit (a window's
   /// sill, the floor behind the furniture) and bounces into the room.
   std::vector<AimPoint> framed_openings{};
+  /// For each instance of the scene, by its index (empty for most): the framed openings through
+  /// which rays from the view's points reach its emission, as a sky panel or an emissive dome
+  /// outside a window, if they reach it through openings at least half the time (else it lights
+  /// the view from where it is); its triangles' particles are aimed through them. Looked for
+  /// with the other portals, in scenes with a directional light or an environment.
+  std::vector<std::vector<AimPoint>> emitter_openings{};
   float share = 0.0f;                     ///< Fraction of the particles aimed, in [0, 1).
   /// True if some particle would be aimed.
   bool any() const noexcept {
     if (!(share > 0.0f)) return false;
     if (!sky_points.empty() || !framed_openings.empty()) return true;
+    for (const auto& points : emitter_openings)
+      if (!points.empty()) return true;
     for (const auto& points : sunlit)
       if (!points.empty()) return true;
     return false;
@@ -286,62 +411,6 @@ struct Portals {
 /// half the angle a 2 m window subtends from 10 m, so most aimed particles still pass.
 inline constexpr float portal_cone_angle = 0.1f;
 
-namespace light_detail {
-/// `target`'s line moved onto the disc's plane (centre `centre`, normal `direction`).
-inline glm::vec3 on_disc_plane(const AimPoint& target, const glm::vec3& centre, const glm::vec3& direction) noexcept {
-  return target.point + direction * glm::dot(centre - target.point, direction);
-}
-/// The aimed particles' start about a target's line: density 2 / (pi r^2) x (1 - d^2 / r^2) at
-/// distance d within its spread r, per unit area. A kernel that falls to zero at its edge, so a
-/// point's density is continuous in the target's position: the float rounding by which backends'
-/// hit points differ moves a particle's weight by as little, where a uniform disc's edge would
-/// flip it between two weights.
-inline float aim_kernel(float distance2, float spread) noexcept {
-  const float spread2 = spread * spread;
-  return distance2 < spread2 ? 2.0f / (std::numbers::pi_v<float> * spread2) * (1.0f - distance2 / spread2) : 0.0f;
-}
-/// A point drawn from aim_kernel about `centre` (in the plane spanned by `t1`, `t2`) from (u1, u2):
-/// with s = d^2 / r^2 of density 2 (1 - s), s = 1 - sqrt(1 - u1).
-inline glm::vec3 aim_point(const glm::vec3& centre, const glm::vec3& t1, const glm::vec3& t2, float spread, float u1,
-                           float u2) noexcept {
-  const float r = spread * std::sqrt(std::max(0.0f, 1.0f - std::sqrt(1.0f - u1))), phi = 2.0f * std::numbers::pi_v<float> * u2;
-  return centre + t1 * (r * std::cos(phi)) + t2 * (r * std::sin(phi));
-}
-/// Density, per unit area of the plane through the disc, of points aimed at `targets` (each
-/// moved along `direction` onto that plane: the disc's centre is `centre`, its normal
-/// `direction`) by aim_kernel, each target equally likely, weighted by `weight(k)` (a direction's
-/// kernel, or 1); 0 for no targets.
-template <class Weight>
-float aimed_density(const glm::vec3& point, const glm::vec3& centre, const glm::vec3& direction,
-                    const std::vector<AimPoint>& targets, const Weight& weight) noexcept {
-  if (targets.empty()) return 0.0f;
-  float density = 0.0f;
-  for (std::size_t k = 0; k < targets.size(); ++k) {
-    const float w = weight(k);
-    if (!(w > 0.0f)) continue;
-    const glm::vec3 offset = point - on_disc_plane(targets[k], centre, direction);
-    density += w * aim_kernel(glm::dot(offset, offset), targets[k].spread);
-  }
-  return density / float(targets.size());
-}
-/// Density of the uniform point on the disc of `radius` about `centre` (in its plane): 1 / area inside, 0 outside.
-inline float disc_density(const glm::vec3& point, const glm::vec3& centre, float radius) noexcept {
-  const glm::vec3 offset = point - centre;
-  return radius > 0.0f && glm::dot(offset, offset) <= radius * radius ? 1.0f / (std::numbers::pi_v<float> * radius * radius) : 0.0f;
-}
-/// A uniform point on the disc of `radius` about `centre` spanned by `t1`, `t2`, from (u1, u2).
-inline glm::vec3 disc_point(const glm::vec3& centre, const glm::vec3& t1, const glm::vec3& t2, float radius, float u1,
-                            float u2) noexcept {
-  const float r = radius * std::sqrt(u1), phi = 2.0f * std::numbers::pi_v<float> * u2;
-  return centre + t1 * (r * std::cos(phi)) + t2 * (r * std::sin(phi));
-}
-/// `u` in [0, 1) split at `share`: whether it fell below, and it rescaled to [0, 1) within its part.
-inline std::pair<bool, float> split(float u, float share) noexcept {
-  constexpr float below_one = 0x1.fffffep-1f;
-  if (u < share) return {true, std::min(u / share, below_one)};
-  return {false, std::min((u - share) / (1.0f - share), below_one)};
-}
-}  // namespace light_detail
 
 /// A directional light of irradiance `irradiance` (W/m^2 on a perpendicular surface). Particles
 /// start on a disc perpendicular to the light that covers the scene's bounding sphere, placed
@@ -596,7 +665,8 @@ class LightSet {
   /// every vertex; they place the lights at infinity. With `portals`, the particles of
   /// directional lights and of the environment are partly aimed through them.
   LightSet(const Scene& scene, const Bounds& bounds, const Portals* portals = nullptr) {
-    for (const Instance& instance : scene.instances) {
+    for (std::size_t instance_index = 0; instance_index < scene.instances.size(); ++instance_index) {
+      const Instance& instance = scene.instances[instance_index];
       if (instance.mesh < 0 || std::size_t(instance.mesh) >= scene.meshes.size())
         throw std::invalid_argument("LightSet: instance '" + instance.name + "' refers to mesh " +
                                     std::to_string(instance.mesh) + " which the scene lacks");
@@ -604,11 +674,17 @@ class LightSet {
       const Material& material = scene.material_of(instance.mesh);
       if (!material.emissive()) continue;
       light_detail::check_emission(material.emission, "LightSet: emission of material '" + material.name + "'");
+      // Shared by the instance's triangles (a dome may have thousands).
+      std::shared_ptr<const std::vector<AimPoint>> openings;
+      if (portals && portals->share > 0.0f && instance_index < portals->emitter_openings.size() &&
+          !portals->emitter_openings[instance_index].empty())
+        openings = std::make_shared<const std::vector<AimPoint>>(portals->emitter_openings[instance_index]);
       for (const glm::uvec3& t : mesh.triangles) {
         if (t.x >= mesh.positions.size() || t.y >= mesh.positions.size() || t.z >= mesh.positions.size())
           throw std::invalid_argument("LightSet: mesh '" + mesh.name + "' indexes a vertex it lacks");
         const auto world = [&](unsigned i) { return glm::vec3(instance.transform * glm::vec4(mesh.positions[i], 1.0f)); };
-        TriangleEmitter emitter(world(t.x), world(t.y), world(t.z), material.emission, material.double_sided);
+        TriangleEmitter emitter(world(t.x), world(t.y), world(t.z), material.emission, material.double_sided, openings,
+                                portals ? portals->share : 0.0f);
         if (emitter.area() > 0.0f) add(std::move(emitter));
       }
     }

@@ -3,11 +3,14 @@
 /// `find_portals`: where light from infinitely far away (directional lights, the environment)
 /// reaches what the camera sees. Camera rays on a jittered grid find the view's points; from each,
 /// a ray towards every directional light and a few towards the sky (drawn by the environment's
-/// own distribution, above the point's surface) are traced, and those that leave the scene
-/// (through glass and blended surfaces too, which let light in) are the openings, whatever shape
-/// they have: the window of a room, the gap between slats, or the whole sky over an open yard. The lights then aim a share of their particles along those rays
-/// (Portals, lights.hpp), so the light walks of a room lit through a window bounce inside the
-/// room instead of on the ground outside, with every particle weighed by the mixture's density.
+/// own distribution, above the point's surface; without an environment, about its normal) are
+/// traced, and those that leave the scene (through glass and blended surfaces too, which let
+/// light in) show the openings, whatever shape they have: the window of a room, the gap between
+/// slats, or the whole sky over an open yard. Where each such ray passes its opening is found
+/// by rays turned from it that meet the opening's frame. The lights then aim a share of their
+/// particles along those rays and through those points (Portals, lights.hpp), so the light walks
+/// of a room lit through a window bounce inside the room instead of on the ground outside, with
+/// every particle weighed by the mixture's density.
 ///
 /// Everything here is a pure function of the scene, the view, the seed and the frame, so every
 /// backend, thread and process finds the same portals (up to the float rounding of hit points).
@@ -50,9 +53,12 @@ inline constexpr std::size_t portal_most_rays = 256;
 /// Angles (radians) by which rays beside an escape ray turn from it to find the frame of its
 /// opening, tried in turn until two meet a surface: 0.1 finds the frame of a window an escape
 /// ray passes near its edge, 0.5 (29 degrees) that of a 2 m window from 2 m away through its
-/// middle; an escape ray with open sky even that far around it starts in the open, and its
-/// opening is its own start.
+/// middle; an escape ray with open sky even that far around it starts in the open.
 inline constexpr std::array<float, 3> portal_frame_angles = {0.1f, 0.25f, 0.5f};
+/// An emitter's opening counts where its frame lies within this share of the way from the view's
+/// point to the emitter: a window passed on the way to a panel outside, not the ceiling around a
+/// luminaire (whose frame is where the emitter is, up to a few of the turned rays' offsets).
+inline constexpr float emitter_frame_share = 0.8f;
 
 /// An opaque surface a single ray found, and its BRDF parameters.
 struct OpaqueHit {
@@ -124,6 +130,12 @@ inline void set_spreads(std::vector<AimPoint>& points, float offset, float alone
   for (std::size_t i = 0; i < points.size(); ++i) points[i].spread = spreads[i];
 }
 
+/// Whether instance `instance` of `scene` emits light.
+inline bool emits(const Scene& scene, std::size_t instance) {
+  const int mesh = scene.instances[instance].mesh;
+  return mesh >= 0 && std::size_t(mesh) < scene.meshes.size() && scene.material_of(mesh).emissive();
+}
+
 /// Where the escape ray from `start` along unit `to_sky` passes its opening: rays turned from it
 /// four ways around by each of portal_frame_angles in turn, until at least two of them meet a
 /// surface (a frame surrounds an opening; furniture beside the ray is on one side), and of
@@ -133,8 +145,8 @@ inline void set_spreads(std::vector<AimPoint>& points, float offset, float alone
 /// no angle does (open sky all around).
 template <class Tracer, class Shader>
   requires SurfaceShader<Shader, 1>
-std::optional<glm::vec3> opening_point(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
-                        const glm::vec3& start, const glm::vec3& to_sky, float offset) {
+std::optional<glm::vec3> opening_point(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer,
+                                       const Shader& shader, const glm::vec3& start, const glm::vec3& to_sky, float offset) {
   glm::vec3 side1, side2;
   orthonormal_basis(to_sky, side1, side2);
   for (const float angle : portal_frame_angles) {
@@ -143,7 +155,8 @@ std::optional<glm::vec3> opening_point(const Scene& scene, const SceneGeometry& 
     for (const glm::vec3& side : {side1, -side1, side2, -side2}) {
       const glm::vec3 direction = to_sky * std::cos(angle) + side * std::sin(angle);
       const std::optional<OpaqueHit> hit = first_opaque_hit(scene, geometry, tracer, shader, start, direction, 0.0f, offset, true);
-      if (!hit) continue;
+      // An emitter beyond the opening (a sky panel) is not its frame.
+      if (!hit || emits(scene, std::size_t(hit->surface.instance[0]))) continue;
       ++hits;
       farthest = std::max(farthest, glm::dot(hit->surface.position[0] - start, to_sky));
     }
@@ -176,7 +189,38 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
   const bool sky = scene.environment && scene.environment->emits();
   bool directional = false;
   for (const PunctualLight& light : scene.lights) directional |= light.kind == PunctualKind::directional;
+  // Only where light comes from far away: a scene lit by its emitters alone (a lamp in a room, the
+  // Cornell box) would pay a few thousand rays a frame (a fifth of a 320 x 240 Cornell frame) to
+  // find that they light the view from where they are.
   if (!settings.view || !(share > 0.0f) || (!sky && !directional)) return portals;
+
+  // The emissive triangles, drawn by power: rays from the view's points towards them find the
+  // openings an emitter outside shines in by (a sky panel seen through a window fills too little
+  // of a point's sky for its rays about the normal to find it often: 1-5 openings a frame in the
+  // window room, against 140-160 with these rays).
+  struct EmissiveTriangle {
+    glm::vec3 corner, edge1, edge2;
+    std::size_t instance;
+  };
+  std::vector<EmissiveTriangle> emitters;
+  std::vector<float> emitter_cdf;
+  float emitter_power = 0.0f;
+  for (std::size_t instance = 0; instance < scene.instances.size(); ++instance) {
+    if (!portal_detail::emits(scene, instance)) continue;
+    const Instance& placed = scene.instances[instance];
+    const Mesh& mesh = scene.meshes[std::size_t(placed.mesh)];
+    const float radiance = light_detail::largest_component(scene.material_of(placed.mesh).emission);
+    for (const glm::uvec3& t : mesh.triangles) {
+      if (t.x >= mesh.positions.size() || t.y >= mesh.positions.size() || t.z >= mesh.positions.size()) continue;
+      const auto world = [&](unsigned i) { return glm::vec3(placed.transform * glm::vec4(mesh.positions[i], 1.0f)); };
+      const glm::vec3 corner = world(t.x), edge1 = world(t.y) - corner, edge2 = world(t.z) - corner;
+      const float power = 0.5f * glm::length(glm::cross(edge1, edge2)) * radiance;
+      if (!(power > 0.0f) || !std::isfinite(power)) continue;
+      emitters.push_back({corner, edge1, edge2, instance});
+      emitter_power += power;
+      emitter_cdf.push_back(emitter_power);
+    }
+  }
 
   const PinholeProjection& projection = settings.view->projection;
   // An arbitrary salt that separates the portals' numbers from the walks' and the view points'.
@@ -206,9 +250,18 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
     AimPoint aim;         // The point the ray starts from, with its spread.
     glm::vec3 start;      // The ray's origin: the point lifted off its surface.
     glm::vec3 direction;  // Towards the sky.
+    float reach = 0.0f;   // Distance to the emitter it met (rays that reach one instead of the sky).
   };
   std::vector<Escape> escapes;
+  // The same rays where they met an emitter instead (a sky panel, an emissive dome), by instance.
+  std::vector<std::vector<Escape>> emitter_escapes(scene.instances.size());
   const float alone = glm::length(settings.scene_bounds.extent());
+  // Records a ray from `start` that met an emitter first.
+  const auto reach_emitter = [&](const AimPoint& aim, const glm::vec3& start, const glm::vec3& direction, const OpaqueHit& hit) {
+    const auto instance = std::size_t(hit.surface.instance[0]);
+    if (instance < scene.instances.size() && portal_detail::emits(scene, instance))
+      emitter_escapes[instance].push_back({aim, start, direction, glm::length(hit.surface.position[0] - start)});
+  };
   const auto add_openings = [&](const std::vector<Seen>& points, int sky_rays) {
     std::vector<AimPoint> aims(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) aims[i].point = points[i].point;
@@ -234,8 +287,22 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
           if (!(s.pdf > 0.0f) || !(glm::dot(s.direction, points[i].normal) > 0.0f)) continue;
           direction = s.direction;
         }
-        if (!first_opaque_hit(scene, geometry, tracer, shader, start_point, direction, 0.0f, offset, true))
+        const std::optional<OpaqueHit> hit = first_opaque_hit(scene, geometry, tracer, shader, start_point, direction, 0.0f, offset, true);
+        if (!hit)
           escapes.push_back({aims[i], start_point, direction});
+        else
+          reach_emitter(aims[i], start_point, direction, *hit);
+        if (emitters.empty()) continue;
+        // A ray towards a point of an emitter drawn by power.
+        const float pick = to_unit_float(hash(cell, std::uint32_t(0x200 + 3 * k))) * emitter_power;
+        const auto chosen = std::size_t(std::upper_bound(emitter_cdf.begin(), emitter_cdf.end(), pick) - emitter_cdf.begin());
+        const EmissiveTriangle& triangle = emitters[std::min(chosen, emitters.size() - 1)];
+        const float root = std::sqrt(to_unit_float(hash(cell, std::uint32_t(0x201 + 3 * k)))), v = to_unit_float(hash(cell, std::uint32_t(0x202 + 3 * k)));
+        const glm::vec3 towards = triangle.corner + triangle.edge1 * (root * (1.0f - v)) + triangle.edge2 * (root * v) - start_point;
+        const float length = glm::length(towards);
+        if (!(length > 0.0f) || !(glm::dot(towards, points[i].normal) > 0.0f)) continue;
+        if (const std::optional<OpaqueHit> met = first_opaque_hit(scene, geometry, tracer, shader, start_point, towards / length, 0.0f, offset, true))
+          reach_emitter(aims[i], start_point, towards / length, *met);
       }
     }
   };
@@ -277,6 +344,23 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
   }
   portal_detail::set_spreads(portals.openings, offset, alone);
   portal_detail::set_spreads(portals.framed_openings, offset, alone);
+  // An emitter's openings: framed well before the emitter (a window 3 m away, the panel 9 m: a
+  // luminaire on a ceiling has its frame, the ceiling, where it is). Only an emitter the view's
+  // points see mostly through openings is aimed: one they see in the open (a luminaire in the
+  // room, seen past a gap between two boxes now and then) lights them from where it is.
+  portals.emitter_openings.resize(scene.instances.size());
+  for (std::size_t instance = 0; instance < scene.instances.size(); ++instance) {
+    const std::vector<Escape> reached = portal_detail::thinned(emitter_escapes[instance], portal_most_rays);
+    std::vector<AimPoint>& openings = portals.emitter_openings[instance];
+    for (const Escape& escape : reached) {
+      const std::optional<glm::vec3> opening =
+          portal_detail::opening_point(scene, geometry, tracer, shader, escape.start, escape.direction, offset);
+      if (opening && glm::length(*opening - escape.start) < emitter_frame_share * escape.reach)
+        openings.push_back({.point = *opening});
+    }
+    if (2 * openings.size() < reached.size()) openings.clear();
+    portal_detail::set_spreads(openings, offset, alone);
+  }
   return portals;
 }
 
