@@ -75,6 +75,15 @@ VplSettings frame_settings(const Scene& scene, const VplView& view, float share,
   return vpl_settings_for(render, frame, scene.bounds(), &view);
 }
 
+/// The portals of `scene`'s frame `frame` from its first camera, with `share` of the particles aimed.
+Portals portals_of(const Scene& scene, float share, std::uint32_t frame) {
+  const EmbreeBackend<1> backend(scene);
+  const GltfMaterialShader shader(scene);
+  const SceneGeometry geometry(scene);
+  const VplView view = camera_view(scene);
+  return find_portals(scene, geometry, backend, shader, frame_settings(scene, view, share, 16, frame), share);
+}
+
 }  // namespace
 
 TEST_CASE("portals: aimed sun particles carry the sun's irradiance into every region, aimed at or not", "[lighting][portals]") {
@@ -300,11 +309,7 @@ TEST_CASE("portals: an emitter outside a window is aimed through it, a luminaire
   // window on the way, and its openings lie there.
   {
     const Scene scene = window_room();
-    const EmbreeBackend<1> backend(scene);
-    const GltfMaterialShader shader(scene);
-    const SceneGeometry geometry(scene);
-    const VplView view = camera_view(scene);
-    const Portals portals = find_portals(scene, geometry, backend, shader, frame_settings(scene, view, 0.7f, 16, 0), 0.7f);
+    const Portals portals = portals_of(scene, 0.7f, 0);
     REQUIRE(portals.emitter_openings.size() == scene.instances.size());
     std::size_t panel = scene.instances.size();
     for (std::size_t i = 0; i < scene.instances.size(); ++i)
@@ -315,7 +320,8 @@ TEST_CASE("portals: an emitter outside a window is aimed through it, a luminaire
     // Near the opening (x 1.5 .. 3.5, y 0.9 .. 2.1, through the wall z 4 .. 4.2) for most.
     int near_window = 0;
     for (const AimPoint& opening : openings) {
-      const glm::vec3 outside = glm::max(glm::max(glm::vec3(1.5f, 0.9f, 4.0f) - opening.point, opening.point - glm::vec3(3.5f, 2.1f, 4.2f)), glm::vec3(0.0f));
+      const glm::vec3 outside =
+          glm::max(glm::max(glm::vec3(1.5f, 0.9f, 4.0f) - opening.point, opening.point - glm::vec3(3.5f, 2.1f, 4.2f)), glm::vec3(0.0f));
       near_window += glm::length(outside) < 0.5f;
     }
     INFO(near_window << " of " << openings.size() << " openings near the window");
@@ -328,11 +334,7 @@ TEST_CASE("portals: an emitter outside a window is aimed through it, a luminaire
   {
     Scene scene = cornell_box();
     scene.lights.push_back({.name = "sun", .kind = PunctualKind::directional, .direction = glm::vec3(0.2f, -1.0f, -0.3f)});
-    const EmbreeBackend<1> backend(scene);
-    const GltfMaterialShader shader(scene);
-    const SceneGeometry geometry(scene);
-    const VplView view = camera_view(scene);
-    const Portals portals = find_portals(scene, geometry, backend, shader, frame_settings(scene, view, 0.7f, 16, 0), 0.7f);
+    const Portals portals = portals_of(scene, 0.7f, 0);
     for (const std::vector<AimPoint>& openings : portals.emitter_openings) CHECK(openings.empty());
   }
 }

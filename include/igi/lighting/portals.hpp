@@ -280,14 +280,16 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
       }
       for (int k = 0; k < sky_rays; ++k) {
         const std::uint32_t cell = points[i].cell;
-        const float u1 = to_unit_float(hash(cell, std::uint32_t(2 + 2 * k))), u2 = to_unit_float(hash(cell, std::uint32_t(3 + 2 * k)));
+        const float u1 = to_unit_float(hash(cell, std::uint32_t(2 + 2 * k)));
+        const float u2 = to_unit_float(hash(cell, std::uint32_t(3 + 2 * k)));
         glm::vec3 direction = sample_cosine_hemisphere(points[i].normal, u1, u2);
         if (sky) {
           const EnvironmentSample s = scene.environment->sample(u1, u2);
           if (!(s.pdf > 0.0f) || !(glm::dot(s.direction, points[i].normal) > 0.0f)) continue;
           direction = s.direction;
         }
-        const std::optional<OpaqueHit> hit = first_opaque_hit(scene, geometry, tracer, shader, start_point, direction, 0.0f, offset, true);
+        const std::optional<OpaqueHit> hit =
+            first_opaque_hit(scene, geometry, tracer, shader, start_point, direction, 0.0f, offset, true);
         if (!hit)
           escapes.push_back({aims[i], start_point, direction});
         else
@@ -297,11 +299,14 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
         const float pick = to_unit_float(hash(cell, std::uint32_t(0x200 + 3 * k))) * emitter_power;
         const auto chosen = std::size_t(std::upper_bound(emitter_cdf.begin(), emitter_cdf.end(), pick) - emitter_cdf.begin());
         const EmissiveTriangle& triangle = emitters[std::min(chosen, emitters.size() - 1)];
-        const float root = std::sqrt(to_unit_float(hash(cell, std::uint32_t(0x201 + 3 * k)))), v = to_unit_float(hash(cell, std::uint32_t(0x202 + 3 * k)));
-        const glm::vec3 towards = triangle.corner + triangle.edge1 * (root * (1.0f - v)) + triangle.edge2 * (root * v) - start_point;
+        const float root = std::sqrt(to_unit_float(hash(cell, std::uint32_t(0x201 + 3 * k))));
+        const float v = to_unit_float(hash(cell, std::uint32_t(0x202 + 3 * k)));
+        const glm::vec3 towards =
+            triangle.corner + triangle.edge1 * (root * (1.0f - v)) + triangle.edge2 * (root * v) - start_point;
         const float length = glm::length(towards);
         if (!(length > 0.0f) || !(glm::dot(towards, points[i].normal) > 0.0f)) continue;
-        if (const std::optional<OpaqueHit> met = first_opaque_hit(scene, geometry, tracer, shader, start_point, towards / length, 0.0f, offset, true))
+        if (const std::optional<OpaqueHit> met =
+                first_opaque_hit(scene, geometry, tracer, shader, start_point, towards / length, 0.0f, offset, true))
           reach_emitter(aims[i], start_point, towards / length, *met);
       }
     }
