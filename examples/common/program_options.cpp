@@ -124,8 +124,8 @@ void add_sampling_options(CommandLine& command_line, RenderSettings& settings) {
       .range(0, max_environment_directions)
       .show_default();
   command_line.add("--portal-share", settings.portal_share,
-                   "share of the sun's and the sky's light particles aimed through the openings (windows) by which "
-                   "their light reaches the view, found each frame; the rest spread over the scene (0: none, the paper's "
+                   "share of the light particles of the sun, the sky and emitters outside (a panel beyond a window) "
+                   "aimed through the openings (windows) by which their light reaches the view, found each frame; the rest spread over the scene (0: none, the paper's "
                    "walks, whose window-lit rooms flicker between frames; docs/sky.md)")
       .range(0.0, 0.99)
       .show_default();

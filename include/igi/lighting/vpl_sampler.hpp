@@ -30,7 +30,7 @@ struct VplSettings {
   std::uint32_t seed = 0;        ///< User seed.
   int max_bounces = 32;          ///< Longest random walk (Russian roulette usually ends it first; RenderSettings::max_bounces says why 32).
   int environment_directions = 32; ///< Directional VPLs of the environment's direct light, shared by every set (RenderSettings::environment_directions).
-  float portal_share = 0.7f;     ///< Share of the sun's and the sky's particles aimed through the view's openings (RenderSettings::portal_share says why 0.7).
+  float portal_share = 0.7f;     ///< Share of the sun's, the sky's and outside emitters' particles aimed through the view's openings (RenderSettings::portal_share says why 0.7).
   Bounds scene_bounds{};         ///< The scene's world bounds this frame (for lights at infinity); empty: the sampler computes them.
   const VplView* view = nullptr; ///< The frame's view, borrowed for one generate call; samplers that do not look at the camera ignore it.
 };

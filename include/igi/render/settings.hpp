@@ -59,9 +59,10 @@ struct RenderSettings {
   /// times the frame time; docs/sky.md), and open ground gets its irradiance within 6% on every
   /// frame's draw; a sun in the map draws most of them. No effect without an environment.
   int environment_directions = 32;
-  /// Share of the particles of directional lights and of the environment aimed through the
-  /// openings by which their light reaches the view (find_portals: a window, gaps between
-  /// slats), the rest spread over the whole scene; the mixture's density weighs each particle,
+  /// Share of the particles of directional lights, of the environment and of emitters seen
+  /// through openings (a panel outside a window) aimed through the openings by which their light
+  /// reaches the view (find_portals: a window, gaps between slats), the rest spread over the
+  /// whole scene; the mixture's density weighs each particle,
   /// so the image's expectation does not change, only where the walks go. 0: none aimed, the
   /// paper's walks, whose light in a window-lit room hangs on the few that pass the window (most
   /// frames miss it, a few are 3-6x too bright). 0.7: the lowest median error in every
