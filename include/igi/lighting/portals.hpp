@@ -59,6 +59,10 @@ inline constexpr std::array<float, 3> portal_frame_angles = {0.1f, 0.25f, 0.5f};
 /// point to the emitter: a window passed on the way to a panel outside, not the ceiling around a
 /// luminaire (whose frame is where the emitter is, up to a few of the turned rays' offsets).
 inline constexpr float emitter_frame_share = 0.8f;
+/// Fewest of the view's rays that must reach an emitter for it to be aimed: 4, so that "at least
+/// half of them through openings" means something, while the window room's panel, reached by
+/// 140-160 rays a frame, is far above it.
+inline constexpr std::size_t emitter_least_rays = 4;
 
 /// An opaque surface a single ray found, and its BRDF parameters.
 struct OpaqueHit {
@@ -353,9 +357,26 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
   // luminaire on a ceiling has its frame, the ceiling, where it is). Only an emitter the view's
   // points see mostly through openings is aimed: one they see in the open (a luminaire in the
   // room, seen past a gap between two boxes now and then) lights them from where it is.
+  // Each opening costs up to 12 rays, so the rays looked at are portal_most_rays in all, shared
+  // by the emitters in proportion to how often the view's rays reached them (most first); an
+  // emitter reached fewer than emitter_least_rays times lights too little of the view to aim.
   portals.emitter_openings.resize(scene.instances.size());
+  std::size_t reached_in_all = 0;
+  std::vector<std::size_t> by_reach;
   for (std::size_t instance = 0; instance < scene.instances.size(); ++instance) {
-    const std::vector<Escape> reached = portal_detail::thinned(emitter_escapes[instance], portal_most_rays);
+    reached_in_all += emitter_escapes[instance].size();
+    if (emitter_escapes[instance].size() >= emitter_least_rays) by_reach.push_back(instance);
+  }
+  std::stable_sort(by_reach.begin(), by_reach.end(), [&](std::size_t a, std::size_t b) {
+    return emitter_escapes[a].size() > emitter_escapes[b].size();
+  });
+  std::size_t budget = portal_most_rays;
+  for (const std::size_t instance : by_reach) {
+    if (budget < emitter_least_rays) break;
+    const std::size_t share_of_rays = portal_most_rays * emitter_escapes[instance].size() / std::max<std::size_t>(reached_in_all, 1);
+    const std::size_t kept = std::min({emitter_escapes[instance].size(), std::max(emitter_least_rays, share_of_rays), budget});
+    budget -= kept;
+    const std::vector<Escape> reached = portal_detail::thinned(emitter_escapes[instance], kept);
     std::vector<AimPoint>& openings = portals.emitter_openings[instance];
     for (const Escape& escape : reached) {
       const std::optional<glm::vec3> opening =
