@@ -121,6 +121,12 @@ inline glm::vec3 unit_direction(const glm::vec3& v, const std::string& what) {
   if (!(length2 > 0.0f) || !std::isfinite(length2)) throw std::invalid_argument(what + " has no direction (zero or non-finite)");
   return v / std::sqrt(length2);
 }
+/// The point of the triangle at `corner` with edges `edge1`, `edge2` drawn uniformly by (u1, u2).
+inline glm::vec3 triangle_point(const glm::vec3& corner, const glm::vec3& edge1, const glm::vec3& edge2, float u1,
+                                float u2) noexcept {
+  const float root = std::sqrt(u1);
+  return corner + edge1 * (root * (1.0f - u2)) + edge2 * (root * u2);
+}
 }  // namespace light_detail
 
 /// A point particles are aimed at (a view point, an opening), and the radius about its line they start within.
@@ -219,8 +225,7 @@ class TriangleEmitter {
   EmissionSample sample_emission(float u1, float u2, float u3, float u4) const noexcept {
     bool aimed = false;
     if (share_ > 0.0f) std::tie(aimed, u3) = light_detail::split(u3, share_);
-    const float s = std::sqrt(u1);
-    const glm::vec3 position = p0_ + e1_ * (s * (1.0f - u2)) + e2_ * (s * u2);
+    const glm::vec3 position = light_detail::triangle_point(p0_, e1_, e2_, u1, u2);
     glm::vec3 normal = normal_;
     if (double_sided_) {
       // Half of u3's range per face, rescaled to [0, 1) for the direction.

@@ -303,10 +303,11 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
         const float pick = to_unit_float(hash(cell, std::uint32_t(0x200 + 3 * k))) * emitter_power;
         const auto chosen = std::size_t(std::upper_bound(emitter_cdf.begin(), emitter_cdf.end(), pick) - emitter_cdf.begin());
         const EmissiveTriangle& triangle = emitters[std::min(chosen, emitters.size() - 1)];
-        const float root = std::sqrt(to_unit_float(hash(cell, std::uint32_t(0x201 + 3 * k))));
-        const float v = to_unit_float(hash(cell, std::uint32_t(0x202 + 3 * k)));
         const glm::vec3 towards =
-            triangle.corner + triangle.edge1 * (root * (1.0f - v)) + triangle.edge2 * (root * v) - start_point;
+            light_detail::triangle_point(triangle.corner, triangle.edge1, triangle.edge2,
+                                         to_unit_float(hash(cell, std::uint32_t(0x201 + 3 * k))),
+                                         to_unit_float(hash(cell, std::uint32_t(0x202 + 3 * k)))) -
+            start_point;
         const float length = glm::length(towards);
         if (!(length > 0.0f) || !(glm::dot(towards, points[i].normal) > 0.0f)) continue;
         if (const std::optional<OpaqueHit> met =
