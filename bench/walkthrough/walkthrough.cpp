@@ -148,6 +148,7 @@ struct Method {
   int temporal_frames;          ///< --temporal; the denoised path tracer's longest history.
   bool path_traced = false;     ///< DenoisedPathTracer at 1 sample per pixel instead of IGI.
   float portal_share = RenderSettings{}.portal_share;  ///< --portal-share (IGI only).
+  int vpls = RenderSettings{}.vpls_per_pixel;          ///< --vpls (IGI only).
 };
 
 /// The methods measured: igi-render's and igi-view's defaults (temporal reuse over 32 frames,
@@ -155,11 +156,17 @@ struct Method {
 /// the default), the paper's walks (no portals), view-importance VPLs (the last two each differ
 /// from the defaults in that one setting), and the path tracer at 1 sample per pixel with
 /// temporal reuse and the à-trous filter (its default history of 32 frames, capped as IGI's).
-const std::vector<Method> all_methods = {{"default", "qmc", default_temporal_frames},
-                                         {"paper", "qmc", 0},
-                                         {"no portals", "qmc", default_temporal_frames, false, 0.0f},
-                                         {"importance", "importance", default_temporal_frames},
-                                         {"path 1spp denoised", "", DenoisedPathTracerSettings{}.temporal_frames, true}};
+/// Then the frame budget's: the paper's single frame at 12 VPLs, and the defaults at 4 VPLs and at
+/// the fewest (a set still holds one whole light path), whose history makes up the rest.
+const std::vector<Method> all_methods = {
+    {"default", "qmc", default_temporal_frames},
+    {"paper", "qmc", 0},
+    {"no portals", "qmc", default_temporal_frames, false, 0.0f},
+    {"importance", "importance", default_temporal_frames},
+    {"path 1spp denoised", "", DenoisedPathTracerSettings{}.temporal_frames, true},
+    {"paper 12 VPLs", "qmc", 0, false, RenderSettings{}.portal_share, 12},
+    {"default 4 VPLs", "qmc", default_temporal_frames, false, RenderSettings{}.portal_share, 4},
+    {"default 1 VPL", "qmc", default_temporal_frames, false, RenderSettings{}.portal_share, 1}};
 
 /// Everything the command line decides.
 struct Options {
@@ -378,6 +385,7 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
       settings.threads = options.threads;
       settings.temporal_frames = method.temporal_frames;
       settings.portal_share = method.portal_share;
+      settings.vpls_per_pixel = method.vpls;
       sampler.emplace(method.vpl_sampler);
       renderer.emplace(scene, settings, surface, brdf, *sampler, filter);
     }
@@ -458,7 +466,7 @@ int main(int argc, char** argv) {
         methods.push_back(method);
     for (const std::string& name : method_names)
       if (std::none_of(all_methods.begin(), all_methods.end(), [&](const Method& m) { return m.name == name; }))
-        throw UsageError("--methods: no method '" + name + "' (default, paper, no portals, importance, path 1spp denoised)");
+        throw UsageError("--methods: no method '" + name + "' (default, paper, no portals, importance, path 1spp denoised, paper 12 VPLs, default 4 VPLs, default 1 VPL)");
     const std::vector<Walk> known = all_walks();
     for (const std::string& name : walk_names)
       if (std::none_of(known.begin(), known.end(), [&](const Walk& w) { return w.name == name; }))

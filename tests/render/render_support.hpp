@@ -80,4 +80,17 @@ inline bool all_finite(const Frame& frame) {
   return true;
 }
 
+/// A renderer of `scene` through Embree with its glTF materials, the paper's VPL walks and the
+/// discontinuity filter: what the programs render a glTF scene with.
+struct RoomRenderer {
+  GltfMaterialShader surface;
+  StandardBrdf brdf;
+  QmcVplSampler sampler;
+  DiscontinuityFilter filter;
+  Renderer<EmbreeBackend<8>, GltfMaterialShader, StandardBrdf, QmcVplSampler, DiscontinuityFilter> renderer;
+  RoomRenderer(Scene& scene, const RenderSettings& settings) : surface(scene), renderer(scene, settings, surface, brdf, sampler, filter) {}
+  /// Frame `index` seen by `camera`.
+  Frame render(const Camera& camera, std::uint32_t index) { return renderer.render(camera, index); }
+};
+
 }  // namespace igi::testing

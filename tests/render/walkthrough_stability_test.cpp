@@ -22,17 +22,6 @@ using namespace igi::testing;
 
 namespace {
 
-/// A renderer of `scene` through Embree with its glTF materials and the discontinuity filter.
-struct RoomRenderer {
-  GltfMaterialShader surface;
-  StandardBrdf brdf;
-  QmcVplSampler sampler;
-  DiscontinuityFilter filter;
-  Renderer<EmbreeBackend<8>, GltfMaterialShader, StandardBrdf, QmcVplSampler, DiscontinuityFilter> renderer;
-  RoomRenderer(Scene& scene, const RenderSettings& settings) : surface(scene), renderer(scene, settings, surface, brdf, sampler, filter) {}
-  Frame render(const Camera& camera, std::uint32_t index) { return renderer.render(camera, index); }
-};
-
 /// A frame's pixels' mean luminance.
 double mean_luminance(const Frame& frame) {
   double sum = 0.0;

@@ -108,9 +108,9 @@ class SeeThroughMeshes : public MaterialMeshes {
       : MaterialMeshes(scene, [](const Material& material) { return material.see_through(); }) {}
 };
 
-/// A backend whose occlusion queries can pass through alpha cut-outs during traversal: with a
-/// test set, a triangle of a cut-out mesh blocks only where the test says so (Embree: an
-/// occlusion filter function on those meshes). `cutout_test_set()` says whether one is set;
+/// A backend whose queries can pass through alpha cut-outs during traversal: with a test set, a
+/// triangle of a cut-out mesh blocks an occlusion query and is a closest hit only where the test
+/// says it is opaque (Embree: occlusion and intersection filter functions on those meshes). `cutout_test_set()` says whether one is set;
 /// set it between frames, never while rays are traced. Without one, cut-outs block everywhere.
 template <class B>
 concept CutoutTestingBackend = Backend<B> && requires(B& backend, const B& traced, CutoutTest test) {

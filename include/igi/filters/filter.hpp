@@ -131,6 +131,14 @@ inline void copy_block(const Vec3Plane& from, int from_width, Vec3Plane& to, int
   copy_block(from.z, from_width, to.z, to_width, block);
 }
 
+/// The delta lights' (point, spot, directional) shadow-ray answers at a pixel's first hit, one bit
+/// per light as FrameState::delta_lights numbers them: what temporal reuse keeps so that the next
+/// frame need not trace them again where its first hits see the same lights.
+struct ShadowBits {
+  std::uint32_t known = 0;    ///< Lights whose visibility is known.
+  std::uint32_t visible = 0;  ///< Of those, the ones nothing blocks.
+};
+
 /// Per-pixel buffers of one tile plus its border, row-major, `width x height` including border.
 /// With anti-aliasing each entry is the average over the pixel's primary rays.
 struct TileGBuffer {
@@ -144,6 +152,7 @@ struct TileGBuffer {
   PixelPlane depth;       ///< Distance of the first hit; 0 on a miss.
   Vec3Plane radiance;     ///< Unfiltered rest: emission, the delta lights' direct light, mirror/glass paths.
   PixelPlane hit;         ///< 1 where the first ray hit geometry, else 0 (floats, so a row loads as a SIMD mask).
+  std::vector<ShadowBits> shadows;  ///< The delta lights' shadow answers at sub-sample 0's first hit (none known on a miss).
 
   /// Sets every buffer to `w x h` zeros.
   void resize(int w, int h) {
@@ -157,12 +166,13 @@ struct TileGBuffer {
     depth.assign(n);
     radiance.assign(n);
     hit.assign(n);
+    shadows.assign(n, ShadowBits{});
   }
   /// Index of pixel (x, y) in the buffers.
   std::size_t index(int x, int y) const noexcept { return std::size_t(y) * std::size_t(width) + std::size_t(x); }
   /// Copies `block` of every buffer from `source` into this one (both rectangles must lie inside
-  /// their buffers). `with_radiance` false leaves `radiance` out: a border needs only what the
-  /// filters read.
+  /// their buffers). `with_radiance` false leaves `radiance` and `shadows` out: a border needs
+  /// only what the filters read.
   void copy_from(const TileGBuffer& source, const BlockCopy& block, bool with_radiance = true) {
     for (Vec3Plane TileGBuffer::*planes :
          {&TileGBuffer::irradiance, &TileGBuffer::glossy, &TileGBuffer::albedo, &TileGBuffer::normal, &TileGBuffer::radiance}) {
@@ -171,6 +181,10 @@ struct TileGBuffer {
     }
     copy_block(source.depth, source.width, depth, width, block);
     copy_block(source.hit, source.width, hit, width, block);
+    if (with_radiance)
+      for (int row = 0; row < block.rows; ++row)
+        std::copy_n(source.shadows.begin() + std::ptrdiff_t(source.index(block.source_x, block.source_y + row)), block.columns,
+                    shadows.begin() + std::ptrdiff_t(index(block.x, block.y + row)));
   }
 };
 

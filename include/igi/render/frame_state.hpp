@@ -5,7 +5,9 @@
 /// once per frame by `FrameState::prepare`, read by every tile (on any thread or process).
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
+#include <vector>
 #include <optional>
 
 #include <glm/glm.hpp>
@@ -13,6 +15,8 @@
 #include "igi/lighting/vpl_sampler.hpp"
 #include "igi/lighting/vpl_spread.hpp"
 #include "igi/render/settings.hpp"
+#include "igi/render/shadow_reuse.hpp"
+#include "igi/render/temporal_reuse.hpp"
 #include "igi/render/tone_mapping.hpp"
 #include "igi/scene/camera.hpp"
 #include "igi/scene/scene_bounds.hpp"
@@ -51,7 +55,15 @@ struct FrameOptions {
   /// Factor on the camera rays' cone (RenderSettings::filter_textures): temporal reuse of a still
   /// view spreads n frames' rays over each pixel, each with 1/n of its area.
   float texture_cone_scale = 1.0f;
+  /// Temporal reuse's histories, whose shadow answers the frame's first hits may take
+  /// (RenderSettings::reuse_shadows); borrowed for the frame; null: every shadow ray traced.
+  const TemporalReuse* shadow_history = nullptr;
 };
+
+/// A pixel traces its delta lights' shadow rays again, whatever its history knows, in every
+/// 8th frame (staggered by pixel): a shadow finer than a pixel that the four previous pixels
+/// around a hit all missed is found within 8 frames, for an eighth of the rays.
+inline constexpr std::uint32_t shadow_refresh_frames = 8;
 
 /// One frame's shared, read-only inputs of the pipeline.
 struct FrameState {
@@ -70,6 +82,14 @@ struct FrameState {
   bool keep_layers = false;                    ///< Tiles return their pixels' PixelLayers (TileResult::layers), for temporal reuse.
   glm::vec2 pixel_jitter{0.5f};                ///< Where in its cell each sub-sample's primary ray passes (FrameOptions::pixel_jitter).
   float texture_cone_scale = 1.0f;             ///< Factor on the camera rays' cone (FrameOptions::texture_cone_scale).
+  std::vector<DeltaLightKey> delta_lights;     ///< This frame's delta lights, numbered as ShadowBits' bits.
+  /// Whether first hits keep their delta lights' shadow answers for the next frame (with temporal
+  /// reuse and RenderSettings::reuse_shadows; not with shadow-ray roulette or see-through surfaces,
+  /// whose answers are not a plain yes or no).
+  bool keeps_shadows = false;
+  const TemporalReuse* shadow_history = nullptr;  ///< Where the previous frame's answers are (use_shadow_history); null: none.
+  /// For each of delta_lights, its bit in shadow_history's answers (-1: that frame had no such light).
+  std::array<std::int8_t, most_reused_shadow_lights> previous_shadow_bit{};
 
   /// Builds frame `index` of `scene` (committed in `backend`) seen by `camera`, to be tone mapped
   /// with `tone_mapping`: VPLs from `sampler`, whose walks shade their hits with the frame's own
@@ -103,6 +123,26 @@ struct FrameState {
     keep_layers = false;
     pixel_jitter = glm::vec2(0.5f);
     texture_cone_scale = 1.0f;
+    delta_lights = delta_light_keys(vpls);
+    keeps_shadows = settings.reuse_shadows && settings.temporal_frames > 0 && settings.shadow_roulette == 0.0f &&
+                    !see_through.any() && !delta_lights.empty();
+    shadow_history = nullptr;
+  }
+  /// Lets first hits take the shadow answers of `history`'s previous frame where it may be reused
+  /// (TemporalReuse::shadows_reusable) and shares a light with this one; else, or with a null
+  /// `history`, every shadow ray is traced.
+  void use_shadow_history(const TemporalReuse* history) {
+    shadow_history = nullptr;
+    if (!keeps_shadows || history == nullptr || !history->shadows_reusable()) return;
+    previous_shadow_bit = previous_shadow_bits(delta_lights, history->shadow_keys());
+    if (std::any_of(previous_shadow_bit.begin(), previous_shadow_bit.end(), [](std::int8_t bit) { return bit >= 0; }))
+      shadow_history = history;
+  }
+  /// This frame's bit of delta light `vpl` (-1 for a VPL that is no delta light, or one beyond the bits).
+  int delta_light_bit(const Vpl& vpl) const noexcept {
+    if (vpl.kind == VplKind::surface) return -1;
+    const auto found = std::find(delta_lights.begin(), delta_lights.end(), DeltaLightKey::of(vpl));
+    return found == delta_lights.end() ? -1 : int(found - delta_lights.begin());
   }
   /// True once prepare has run.
   bool prepared() const noexcept { return projection.has_value(); }

@@ -188,6 +188,13 @@ class Pipeline {
     /// Light of the delta lights' exact VPLs, composed unfiltered beside emission (zero with
     /// RenderSettings::filter_delta_lights, which gathers it into `light`).
     VplAccumulator<W> direct;
+    /// Whether the lanes keep their delta lights' shadow answers (FrameState::keeps_shadows, on
+    /// sub-sample 0's camera rays' hits): ShadowBits lane by lane, `reused_*` as the previous
+    /// frame's histories know them (FrameState::shadow_history), `shadow_*` this frame's.
+    bool keeps_shadows = false;
+    ///@{
+    vuint<W> reused_known, reused_visible, shadow_known, shadow_visible;  ///< One bit per FrameState::delta_lights entry.
+    ///@}
   };
 
   /// Per-thread memory reused across tiles.
@@ -485,10 +492,37 @@ class Pipeline {
         packet.direct = {};
       }
     }
+    {
+      const StageTimer timer(work.timing(&StageTimes::shadow));
+      for (StreamPacket& packet : level) recall_shadows(frame, depth == 0 && k == 0, work, packet);
+    }
     const int subsets = frame.settings.antialiasing;
     // Each subset alone estimates the full light, so a sub-sample's subset is weighted by N.
     gather_vpls(frame, set, std::size_t(k), std::size_t(subsets), float(subsets),
                 frame.settings.filter_delta_lights ? DeltaLights::filtered : DeltaLights::composed, level, work, counts);
+  }
+
+  /// Sets up `packet`'s shadow answers: kept if `first_hits` (sub-sample 0's camera rays) and the
+  /// frame keeps them, with the previous frame's answers at each hit where the frame has them
+  /// (TemporalReuse::previous_shadows), except on the pixels whose turn it is to trace every ray
+  /// again (shadow_refresh_frames).
+  void recall_shadows(const FrameState& frame, bool first_hits, const Workspace& work, StreamPacket& packet) const {
+    const vuint<W> none_known(0u);
+    packet.keeps_shadows = first_hits && frame.keeps_shadows;
+    packet.reused_known = packet.reused_visible = packet.shadow_known = packet.shadow_visible = none_known;
+    if (!packet.keeps_shadows || frame.shadow_history == nullptr) return;
+    const vuint<W> pixel = pixel_indices(work.pixels[std::size_t(packet.pixels)], frame.settings.width);
+    alignas(64) std::uint32_t known[W] = {}, visible[W] = {};
+    for (int i = 0; i < W; ++i) {
+      if (!packet.hit[i] || (pixel[i] + frame.index) % shadow_refresh_frames == 0) continue;
+      const ShadowBits before = frame.shadow_history->previous_shadows(packet.surface.position[i], packet.parameters.normal[i],
+                                                                       packet.surface.distance[i]);
+      const ShadowBits now = renumber(before, frame.previous_shadow_bit, frame.delta_lights.size());
+      known[i] = now.known;
+      visible[i] = now.visible;
+    }
+    packet.reused_known = vuint<W>::load(known);
+    packet.reused_visible = vuint<W>::load(visible);
   }
 
   /// What gather_vpls does with the exact VPLs of delta lights (point, spot, directional).
@@ -518,6 +552,9 @@ class Pipeline {
         const bool exact = delta != DeltaLights::in_turn && vpl.kind != VplKind::surface;
         const bool turn = j >= first && (j - first) % stride == 0;
         if (!exact && !turn) continue;
+        // A delta light's bit in the packets' shadow answers (-1: none kept for it).
+        const int bit = exact ? frame.delta_light_bit(vpl) : -1;
+        const vuint<W> flag(bit >= 0 ? 1u << bit : 0u);
         const glm::vec3 intensity = vpl.intensity * (exact ? 1.0f : weight);
         VplAccumulator<W> StreamPacket::*const into =
             exact && delta == DeltaLights::composed ? &StreamPacket::direct : &StreamPacket::light;
@@ -541,13 +578,27 @@ class Pipeline {
             add_through(frame, light, vfloat<W>(1.0f), shadow, geometry.reaches, packet.*into, work, counts);
             continue;
           }
-          vmask<W> occluded;
-          {
-            const StageTimer timer(work.timing(&StageTimes::shadow));
-            occluded = occluded_by_opaque(frame, shadow, geometry.reaches);
+          // Lanes whose answer the previous frame gives (none unless the packet keeps answers).
+          const bool keeps = bit >= 0 && packet.keeps_shadows;
+          vmask<W> answered, answered_visible;
+          if (keeps) {
+            const vuint<W> no_bit(0u);
+            answered = geometry.reaches & ((packet.reused_known & flag) != no_bit);
+            answered_visible = answered & ((packet.reused_visible & flag) != no_bit);
           }
-          counts.shadow += std::uint64_t(popcount(geometry.reaches));
-          add_vpl(packet, geometry, intensity, packet.*into, geometry.reaches & !occluded);
+          const vmask<W> traced = geometry.reaches & !answered;
+          vmask<W> occluded;
+          if (any(traced)) {
+            const StageTimer timer(work.timing(&StageTimes::shadow));
+            occluded = occluded_by_opaque(frame, shadow, traced);
+          }
+          counts.shadow += std::uint64_t(popcount(traced));
+          const vmask<W> visible = (traced & !occluded) | answered_visible;
+          if (keeps) {
+            packet.shadow_known = packet.shadow_known | keep(flag, geometry.reaches);
+            packet.shadow_visible = packet.shadow_visible | keep(flag, visible);
+          }
+          add_vpl(packet, geometry, intensity, packet.*into, visible);
         }
       }
     }
@@ -808,6 +859,7 @@ class Pipeline {
             g.hit[at] = hit ? 1.0f : 0.0f;
             g.normal[at] = hit ? packet.parameters.normal[i] : glm::vec3(0.0f);
             g.depth[at] = hit ? packet.surface.distance[i] : 0.0f;
+            g.shadows[at] = hit ? ShadowBits{packet.shadow_known[i], packet.shadow_visible[i]} : ShadowBits{};
             continue;
           }
           g.radiance[at] += rest[i] * share;
@@ -850,7 +902,8 @@ class Pipeline {
                                  .rest = g.radiance[at],
                                  .normal = g.normal[at],
                                  .depth = g.depth[at],
-                                 .hit = g.hit[at] != 0.0f};
+                                 .hit = g.hit[at] != 0.0f,
+                                 .shadows = g.shadows[at]};
         const glm::vec3 radiance = layers.radiance();
         if (frame.keep_layers) out.layers[inner] = layers;
         out.hdr[inner] = radiance;

@@ -5,6 +5,7 @@
 
 #include <glm/glm.hpp>
 
+#include "igi/filters/filter.hpp"
 #include "igi/shading/constants.hpp"
 
 namespace igi {
@@ -18,6 +19,7 @@ struct PixelLayers {
   glm::vec3 normal{0.0f};      ///< Unit shading normal of the first hit; zero on a miss.
   float depth = 0.0f;          ///< Distance along sub-sample 0's primary ray to the first hit; 0 on a miss.
   bool hit = false;            ///< Whether sub-sample 0's primary ray hit geometry.
+  ShadowBits shadows{};        ///< The delta lights' shadow answers at that hit (what the next frame may reuse).
 
   /// The pixel's radiance: rest + albedo x irradiance / pi + glossy where the first ray hit, else rest.
   glm::vec3 radiance() const noexcept { return hit ? rest + (albedo * irradiance * inv_pi + glossy) : rest; }

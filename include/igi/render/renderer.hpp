@@ -116,6 +116,7 @@ class Renderer {
       options.clamp_scale = request.clamp_scale;
       options.pixel_jitter = request.pixel_jitter;
       options.texture_cone_scale = request.texture_cone_scale;
+      options.shadow_history = &*temporal_;
     }
     if (temporal_ || keep_layers_) {
       options.keep_layers = true;
@@ -204,7 +205,8 @@ class Renderer {
     LuminanceStatistics& luminance = frame.statistics.luminance;
     std::vector<LuminanceAccumulator> rows(std::size_t(frame.height));
     engine_.execute([&] {
-      temporal_->accumulate(*engine_.frame().projection, engine_.settings().antialiasing, layers_, frame.hdr);
+      temporal_->accumulate(*engine_.frame().projection, engine_.settings().antialiasing, layers_, frame.hdr,
+                            engine_.frame().keeps_shadows ? engine_.frame().delta_lights : std::vector<DeltaLightKey>{});
       tbb::parallel_for(0, frame.height, [&](int y) {
         for (int x = 0; x < frame.width; ++x) {
           rows[std::size_t(y)].add(frame.hdr(x, y));

@@ -28,6 +28,13 @@
 /// freezing the clamp's bias. The exponent balances what is left: the bias the clamp leaves falls
 /// with c (the light of the region within c of a contact), the average's variance grows as
 /// 1/c^2 per frame and falls as 1/n, so c^2 ~ n^(-1/2) makes both fall as n^(-1/2).
+///
+/// Each history also keeps its first hit's shadow answers towards the delta lights (ShadowBits),
+/// which the next frame's pipeline reuses instead of tracing those rays again where its first hit
+/// shows the same surface as all four previous pixels around its reprojection, which agree
+/// (previous_shadows): in a scene that did not change, a surface point's view of a light that
+/// stayed does not change either. Where the four disagree (a shadow's edge) or the scene changed,
+/// the rays are traced.
 
 #include <algorithm>
 #include <cmath>
@@ -48,6 +55,7 @@
 #include "igi/render/interleaving.hpp"
 #include "igi/render/pixel_layers.hpp"
 #include "igi/render/settings.hpp"
+#include "igi/render/shadow_reuse.hpp"
 #include "igi/scene/camera.hpp"
 #include "igi/simd/sampling.hpp"
 
@@ -143,24 +151,33 @@ class TemporalReuse {
   /// `projection` with `antialiasing` sub-samples) into the histories and writes the composed
   /// radiance into `hdr`. Rows run as a oneTBB loop (call it inside the renderer's arena); each
   /// pixel depends only on its inputs, so the result is the same on any number of threads.
+  /// `shadow_keys` are the delta lights the layers' ShadowBits number (FrameState::delta_lights).
   void accumulate(const PinholeProjection& projection, int antialiasing, std::span<const PixelLayers> layers,
-                  Image& hdr) {
+                  Image& hdr, std::vector<DeltaLightKey> shadow_keys = {}) {
     const std::size_t pixels = std::size_t(width_) * std::size_t(height_);
     if (layers.size() != pixels || hdr.width != width_ || hdr.height != height_ ||
         projection.width() != width_ || projection.height() != height_)
       throw std::invalid_argument("TemporalReuse::accumulate: the frame's sizes differ from begin's");
     glm::vec2 measured;  // where in each pixel its depth was measured: sub-sample 0's ray
     subsample_offset(0, antialiasing, measured.x, measured.y, pixel_jitter(still_));
-    current_.assign(pixels, Sample{});
+    current_.resize(pixels);  // pixel() sets each entry whole
+    const bool keep_shadows = !shadow_keys.empty();
+    next_shadow_points_.resize(keep_shadows ? pixels : 0);
     const bool clamp = scene_changed_ && has_history();
     if (clamp) neighbourhood_ranges(layers);
     tbb::parallel_for(0, height_, [&](int y) {
       for (int x = 0; x < width_; ++x) {
         const std::size_t at = std::size_t(y) * std::size_t(width_) + std::size_t(x);
         hdr.pixels[at] = pixel(projection, layers[at], x, y, measured, clamp ? &ranges_[at] : nullptr, current_[at]);
+        if (keep_shadows) {
+          const Sample& kept = current_[at];
+          next_shadow_points_[at] = {kept.position, kept.normal, kept.length > 0 ? layers[at].shadows : ShadowBits{}};
+        }
       }
     });
     std::swap(previous_, current_);
+    std::swap(shadow_points_, next_shadow_points_);
+    previous_keys_ = std::move(shadow_keys);
     previous_projection_.emplace(projection);
     previous_measured_ = measured;
   }
@@ -169,6 +186,38 @@ class TemporalReuse {
   int history_length(int x, int y) const {
     if (!has_history()) return 0;
     return previous_.at(std::size_t(y) * std::size_t(width_) + std::size_t(x)).length;
+  }
+  /// Whether the frame begun may reuse the shadow answers of the frame before: there is one, of
+  /// the same size, and the scene has not changed since.
+  bool shadows_reusable() const noexcept { return has_history() && !scene_changed_; }
+  /// The delta lights the frame before's shadow answers number.
+  const std::vector<DeltaLightKey>& shadow_keys() const noexcept { return previous_keys_; }
+  /// The frame before's shadow answers for a first hit at `position` with shading `normal`,
+  /// `depth` from the eye (in that frame's numbering, shadow_keys): a light's answer is known
+  /// only where the four previous pixels around the hit's reprojection all show its surface, all
+  /// know the answer and agree on it (so a shadow's edge is traced again); none is known unless
+  /// shadows_reusable. Reads only the frame before's histories: safe from any thread while the
+  /// frame renders.
+  ShadowBits previous_shadows(const glm::vec3& position, const glm::vec3& normal, float depth) const noexcept {
+    if (!shadows_reusable() || shadow_points_.empty()) return {};
+    const std::optional<glm::vec2> seen = previous_projection_->project(position);
+    if (!seen) return {};
+    const float u = seen->x - previous_measured_.x, v = seen->y - previous_measured_.y;
+    if (!(u >= 0.0f && v >= 0.0f && u < float(width_ - 1) && v < float(height_ - 1))) return {};  // NaN too
+    const int x0 = int(u), y0 = int(v);
+    ShadowBits all{~0u, ~0u};
+    std::uint32_t any_visible = 0;
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) {
+        const ShadowPoint& old = shadow_points_[std::size_t(y0 + j) * std::size_t(width_) + std::size_t(x0 + i)];
+        all.known &= old.shadows.known;  // none on a miss
+        if (all.known == 0 || !same_surface(old.position, old.normal, position, normal, depth)) return {};
+        all.visible &= old.shadows.visible;
+        any_visible |= old.shadows.visible;
+      }
+    all.known &= ~(any_visible ^ all.visible);  // where some see the light and others do not: unknown
+    all.visible &= all.known;
+    return all;
   }
   /// Frames before the current one with the same view and scene.
   int still_frames() const noexcept { return still_; }
@@ -240,10 +289,22 @@ class TemporalReuse {
     int length = 0;              ///< Frames in the irradiance average; 0: no hit.
   };
 
+  /// A pixel's first hit and its delta lights' shadow answers, kept apart from its Sample so
+  /// that previous_shadows, called for every first hit while the frame renders, reads little.
+  struct ShadowPoint {
+    glm::vec3 position{0.0f};  ///< World position of the first hit.
+    glm::vec3 normal{0.0f};    ///< Its shading normal.
+    ShadowBits shadows{};      ///< Its answers (none known on a miss).
+  };
+
+  /// Whether a first hit at `old_position` with `old_normal` shows the surface at `position` with `normal`, `depth` from the eye.
+  static bool same_surface(const glm::vec3& old_position, const glm::vec3& old_normal, const glm::vec3& position,
+                           const glm::vec3& normal, float depth) noexcept {
+    return glm::dot(old_normal, normal) >= normal_agreement && std::abs(glm::dot(normal, old_position - position)) <= plane_tolerance * depth;
+  }
   /// Whether previous sample `old` shows the surface at `position` with `normal`, `depth` from the eye.
   static bool same_surface(const Sample& old, const glm::vec3& position, const glm::vec3& normal, float depth) noexcept {
-    return old.length > 0 && glm::dot(old.normal, normal) >= normal_agreement &&
-           std::abs(glm::dot(normal, old.position - position)) <= plane_tolerance * depth;
+    return old.length > 0 && same_surface(old.position, old.normal, position, normal, depth);
   }
 
   /// The irradiance history of a hit at `position` found in the previous frame by reprojection:
@@ -284,6 +345,7 @@ class TemporalReuse {
   glm::vec3 pixel(const PinholeProjection& projection, const PixelLayers& layers, int x, int y, glm::vec2 measured,
                   const Range* range, Sample& out) const {
     const std::size_t at = std::size_t(y) * std::size_t(width_) + std::size_t(x);
+    out = Sample{};
     // The view-dependent terms keep a history only while the camera stays (then each pixel is its own previous pixel).
     const bool still = still_ > 0;  // the same view and scene as the previous frame
     const Sample* same_pixel = still ? &previous_[at] : nullptr;
@@ -345,6 +407,9 @@ class TemporalReuse {
   std::vector<Sample> current_;   ///< The frame being accumulated (kept to reuse its memory).
   std::vector<Range> rows_;       ///< Each pixel's range along its row (neighbourhood_ranges' first pass).
   std::vector<Range> ranges_;     ///< Each pixel's neighbourhood range after a scene change.
+  std::vector<ShadowPoint> shadow_points_;       ///< The last frame's first hits and shadow answers (empty: it kept none).
+  std::vector<ShadowPoint> next_shadow_points_;  ///< The frame being accumulated's (kept to reuse its memory).
+  std::vector<DeltaLightKey> previous_keys_;  ///< The delta lights previous_'s ShadowBits number.
   std::optional<PinholeProjection> previous_projection_;  ///< The last frame's camera; empty while there is no history.
   glm::vec2 previous_measured_{0.5f}; ///< Where in its pixel the previous frame measured each first hit.
 };

@@ -136,6 +136,7 @@ class TileEngine {
     frame_.keep_layers = options.keep_layers;
     frame_.pixel_jitter = options.pixel_jitter;
     frame_.texture_cone_scale = options.texture_cone_scale;
+    frame_.use_shadow_history(options.shadow_history);
   }
 
   /// Runs `work` inside this engine's threads (its task arena), so oneTBB loops in it use the

@@ -108,8 +108,8 @@ class EmbreeBackend {
   /// Commits what changed (see EmbreeScene::commit).
   void commit() { scene_->commit(); }
 
-  /// Occlusion queries pass the alpha cut-outs' triangles where `test` finds them transparent
-  /// (Embree occlusion filter functions; see CutoutTestingBackend). Only between frames.
+  /// Occlusion and closest-hit queries pass the alpha cut-outs' triangles where `test` finds them
+  /// transparent (Embree filter functions; see CutoutTestingBackend). Only between frames.
   void set_cutout_test(CutoutTest test) { scene_->set_cutout_test(std::move(test)); }
   /// Whether a cut-out test is set.
   bool cutout_test_set() const noexcept { return scene_->cutout_test_set(); }

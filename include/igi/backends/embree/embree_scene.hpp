@@ -216,7 +216,7 @@ class EmbreeScene {
     state_.traced = any_instanced ? state_.top : state_.flat;
   }
 
-  /// Lets occlusion queries pass the alpha cut-outs' triangles wherever `test` says they are
+  /// Lets occlusion and closest-hit queries pass the alpha cut-outs' triangles wherever `test` says they are
   /// transparent (see CutoutTestingBackend); an empty test makes them block everywhere again.
   /// Only between frames: the filter functions read it while rays are traced.
   void set_cutout_test(CutoutTest test) { state_.cutout_test = std::move(test); }
@@ -296,12 +296,12 @@ class EmbreeScene {
         state->error_message = std::string(detail::embree_error_name(code)) + ": " + (message ? message : "");
     }
 
-    /// Embree's occlusion filter on the cut-out meshes' triangles: rejects the hits
-    /// `cutout_test` finds transparent, so the query goes on past them. Hits in the flattened
+    /// Embree's occlusion and intersection filter on the cut-out meshes' triangles: rejects the
+    /// hits `cutout_test` finds transparent, so the query goes on past them in the same traversal. Hits in the flattened
     /// scene carry geomID = instance in world space; hits through an Embree instance carry
     /// geomID = mesh, instID = instance, and the ray in the instance's object space, which the
     /// instance's transform takes back to world space.
-    static void filter_occlusion(const RTCFilterFunctionNArguments* args) {
+    static void filter_cutouts(const RTCFilterFunctionNArguments* args) {
       const auto* state = static_cast<const State*>(args->geometryUserPtr);
       if (!state->cutout_test) return;
       const unsigned n = args->N;
@@ -377,7 +377,11 @@ class EmbreeScene {
     RTCGeometry geometry = rtcNewGeometry(state_.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     if (state_.cutouts.contains(index)) {
       rtcSetGeometryUserData(geometry, &state_);
-      rtcSetGeometryOccludedFilterFunction(geometry, &State::filter_occlusion);
+      rtcSetGeometryOccludedFilterFunction(geometry, &State::filter_cutouts);
+      // Closest hits too: a camera ray through foliage found each leaf's transparent part and was
+      // traced again behind it, a packet query per layer (Sponza_lit, 640 x 480: 22 of the
+      // frame's 40 CPU-ms of surface shading for the 8% of camera rays that meet a cut-out).
+      rtcSetGeometryIntersectFilterFunction(geometry, &State::filter_cutouts);
     }
     if (!embree_owned_vertices)
       rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices, 0,
