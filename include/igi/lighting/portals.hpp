@@ -13,17 +13,23 @@
 /// every particle weighed by the mixture's density.
 ///
 /// Everything here is a pure function of the scene, the view, the seed and the frame, so every
-/// backend, thread and process finds the same portals (up to the float rounding of hit points).
+/// backend, thread and process finds the same portals (up to the float rounding of hit points):
+/// the rays of each point are traced as oneTBB tasks (a few thousand single rays a frame, which
+/// took 9 ms on one thread at Sponza_lit's 640 x 480), into a slot of their own, and gathered in
+/// the points' order.
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <oneapi/tbb/parallel_for.h>
 
 #include "igi/backends/packet.hpp"
 #include "igi/lighting/lights.hpp"
@@ -116,21 +122,29 @@ void for_each_view_ray(const PinholeProjection& projection, int samples, std::ui
 
 namespace portal_detail {
 
+/// `work(i)` for i in [0, count) as oneTBB tasks, each result in slot i of the returned vector:
+/// the same results, in the same order, on any number of threads.
+template <class Work>
+auto in_parallel(std::size_t count, Work&& work) {
+  std::vector<decltype(work(std::size_t(0)))> results(count);
+  tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) { results[i] = work(i); });
+  return results;
+}
+
 /// Each point's spread: twice the distance to the nearest other point, so the aimed lines of
 /// neighbouring points overlap and cover the region between them (once the distance: 3-10x the
 /// variance of a window room's sky light, measured; 3 or 5 times: alike), near ones finely, far
 /// ones coarsely; at least 10 ray offsets where points coincide, and `alone` for a single point.
 inline void set_spreads(std::vector<AimPoint>& points, float offset, float alone) {
-  std::vector<float> spreads(points.size(), alone);
-  for (std::size_t i = 0; i < points.size(); ++i) {
+  const std::vector<float> spreads = in_parallel(points.size(), [&](std::size_t i) {
     float nearest2 = std::numeric_limits<float>::infinity();
     for (std::size_t j = 0; j < points.size(); ++j) {
       if (j == i) continue;
       const glm::vec3 d = points[j].point - points[i].point;
       nearest2 = std::min(nearest2, glm::dot(d, d));
     }
-    if (std::isfinite(nearest2)) spreads[i] = std::max(2.0f * std::sqrt(nearest2), 10.0f * offset);
-  }
+    return std::isfinite(nearest2) ? std::max(2.0f * std::sqrt(nearest2), 10.0f * offset) : alone;
+  });
   for (std::size_t i = 0; i < points.size(); ++i) points[i].spread = spreads[i];
 }
 
@@ -236,16 +250,20 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
     glm::vec3 point, normal;
     std::uint32_t cell;
   };
-  std::vector<Seen> seen;
+  std::vector<std::pair<std::uint32_t, glm::vec3>> view_rays;
   for_each_view_ray(projection, portal_view_samples, hash(hash(settings.seed, settings.frame), portal_salt),
-                    [&](std::uint32_t cell, const glm::vec3& direction) {
-                      const std::optional<OpaqueHit> hit =
-                          first_opaque_hit(scene, geometry, tracer, shader, projection.origin(), direction, 0.0f, offset);
-                      if (!hit) return;
-                      glm::vec3 normal = hit->surface.geometric_normal[0];
-                      if (glm::dot(normal, direction) > 0.0f) normal = -normal;
-                      seen.push_back({hit->surface.position[0], normal, cell});
-                    });
+                    [&](std::uint32_t cell, const glm::vec3& direction) { view_rays.emplace_back(cell, direction); });
+  std::vector<Seen> seen;
+  for (const std::optional<Seen>& point : portal_detail::in_parallel(view_rays.size(), [&](std::size_t i) -> std::optional<Seen> {
+         const auto& [cell, direction] = view_rays[i];
+         const std::optional<OpaqueHit> hit =
+             first_opaque_hit(scene, geometry, tracer, shader, projection.origin(), direction, 0.0f, offset);
+         if (!hit) return std::nullopt;
+         glm::vec3 normal = hit->surface.geometric_normal[0];
+         if (glm::dot(normal, direction) > 0.0f) normal = -normal;
+         return Seen{hit->surface.position[0], normal, cell};
+       }))
+    if (point) seen.push_back(*point);
   // Where light from far away reaches `points` (the view's, or those they see): each point's
   // rays towards the directional lights and `sky_rays` towards the sky that leave the scene (by
   // the environment's own distribution; without one, about the point's normal, which finds the
@@ -260,17 +278,25 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
   // The same rays where they met an emitter instead (a sky panel, an emissive dome), by instance.
   std::vector<std::vector<Escape>> emitter_escapes(scene.instances.size());
   const float alone = glm::length(settings.scene_bounds.extent());
-  // Records a ray from `start` that met an emitter first.
-  const auto reach_emitter = [&](const AimPoint& aim, const glm::vec3& start, const glm::vec3& direction, const OpaqueHit& hit) {
-    const auto instance = std::size_t(hit.surface.instance[0]);
-    if (instance < scene.instances.size() && portal_detail::emits(scene, instance))
-      emitter_escapes[instance].push_back({aim, start, direction, glm::length(hit.surface.position[0] - start)});
+  // What one point's rays found: the directional lights that reach it, its rays that left the
+  // scene, and those that met an emitter first (with the emitter's instance).
+  struct PointFindings {
+    std::vector<std::size_t> sunlit;
+    std::vector<Escape> escapes;
+    std::vector<std::pair<std::size_t, Escape>> emitters;
   };
   const auto add_openings = [&](const std::vector<Seen>& points, int sky_rays) {
     std::vector<AimPoint> aims(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) aims[i].point = points[i].point;
     portal_detail::set_spreads(aims, offset, alone);
-    for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::vector<PointFindings> found = portal_detail::in_parallel(points.size(), [&](std::size_t i) {
+      PointFindings findings;
+      // Records a ray from `start` that met an emitter first.
+      const auto reach_emitter = [&](const AimPoint& aim, const glm::vec3& start, const glm::vec3& direction, const OpaqueHit& hit) {
+        const auto instance = std::size_t(hit.surface.instance[0]);
+        if (instance < scene.instances.size() && portal_detail::emits(scene, instance))
+          findings.emitters.emplace_back(instance, Escape{aim, start, direction, glm::length(hit.surface.position[0] - start)});
+      };
       const glm::vec3 start_point = points[i].point + points[i].normal * offset;
       for (std::size_t l = 0; l < scene.lights.size(); ++l) {
         const PunctualLight& light = scene.lights[l];
@@ -280,7 +306,7 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
         const glm::vec3 to_light = -light.direction / length;
         if (glm::dot(to_light, points[i].normal) > 0.0f &&
             !first_opaque_hit(scene, geometry, tracer, shader, start_point, to_light, 0.0f, offset, true))
-          portals.sunlit[l].push_back(aims[i]);
+          findings.sunlit.push_back(l);
       }
       for (int k = 0; k < sky_rays; ++k) {
         const std::uint32_t cell = points[i].cell;
@@ -295,7 +321,7 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
         const std::optional<OpaqueHit> hit =
             first_opaque_hit(scene, geometry, tracer, shader, start_point, direction, 0.0f, offset, true);
         if (!hit)
-          escapes.push_back({aims[i], start_point, direction});
+          findings.escapes.push_back({aims[i], start_point, direction});
         else
           reach_emitter(aims[i], start_point, direction, *hit);
         if (emitters.empty()) continue;
@@ -314,6 +340,12 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
                 first_opaque_hit(scene, geometry, tracer, shader, start_point, towards / length, 0.0f, offset, true))
           reach_emitter(aims[i], start_point, towards / length, *met);
       }
+      return findings;
+    });
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      for (const std::size_t light : found[i].sunlit) portals.sunlit[light].push_back(aims[i]);
+      escapes.insert(escapes.end(), found[i].escapes.begin(), found[i].escapes.end());
+      for (const auto& [instance, escape] : found[i].emitters) emitter_escapes[instance].push_back(escape);
     }
   };
   add_openings(seen, portal_sky_rays);
@@ -322,17 +354,20 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
   // view's room. Measured in the sunlit window room, that light is a third of the room's
   // indirect light, and without these targets only the unaimed share of the walks carries it.
   std::vector<Seen> beyond;
-  for (const Seen& view_point : seen)
-    for (int k = 0; k < portal_bounce_rays; ++k) {
-      const std::uint32_t ray_key = hash(view_point.cell, std::uint32_t(0x100 + k));
-      const glm::vec3 direction = sample_cosine_hemisphere(view_point.normal, to_unit_float(hash(ray_key, 0u)), to_unit_float(hash(ray_key, 1u)));
-      const std::optional<OpaqueHit> hit = first_opaque_hit(scene, geometry, tracer, shader, view_point.point + view_point.normal * offset,
-                                                            direction, 0.0f, offset, true);
-      if (!hit) continue;
-      glm::vec3 normal = hit->surface.geometric_normal[0];
-      if (glm::dot(normal, direction) > 0.0f) normal = -normal;
-      beyond.push_back({hit->surface.position[0], normal, ray_key});
-    }
+  for (const std::optional<Seen>& point :
+       portal_detail::in_parallel(seen.size() * portal_bounce_rays, [&](std::size_t ray) -> std::optional<Seen> {
+         const Seen& view_point = seen[ray / portal_bounce_rays];
+         const std::uint32_t ray_key = hash(view_point.cell, std::uint32_t(0x100 + ray % portal_bounce_rays));
+         const glm::vec3 direction =
+             sample_cosine_hemisphere(view_point.normal, to_unit_float(hash(ray_key, 0u)), to_unit_float(hash(ray_key, 1u)));
+         const std::optional<OpaqueHit> hit = first_opaque_hit(scene, geometry, tracer, shader,
+                                                               view_point.point + view_point.normal * offset, direction, 0.0f, offset, true);
+         if (!hit) return std::nullopt;
+         glm::vec3 normal = hit->surface.geometric_normal[0];
+         if (glm::dot(normal, direction) > 0.0f) normal = -normal;
+         return Seen{hit->surface.position[0], normal, ray_key};
+       }))
+    if (point) beyond.push_back(*point);
   add_openings(beyond, portal_beyond_sky_rays);
   portals.share = share;
   for (auto& points : portals.sunlit) points = portal_detail::thinned(points, portal_most_rays);
@@ -342,13 +377,17 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
   // points, which reach most of them only through walls and ceilings (measured in the window,
   // blinds and two-window rooms: 3-4x more enter, and the room's sky light per particle has a
   // tenth of the variance).
-  for (const Escape& escape : portal_detail::thinned(escapes, portal_most_rays)) {
+  const std::vector<Escape> kept_escapes = portal_detail::thinned(escapes, portal_most_rays);
+  const std::vector<std::optional<glm::vec3>> kept_openings = portal_detail::in_parallel(kept_escapes.size(), [&](std::size_t i) {
+    return portal_detail::opening_point(scene, geometry, tracer, shader, kept_escapes[i].start, kept_escapes[i].direction, offset);
+  });
+  for (std::size_t i = 0; i < kept_escapes.size(); ++i) {
+    const Escape& escape = kept_escapes[i];
     if (sky) {
       portals.sky_points.push_back(escape.aim);
       portals.sky_directions.push_back(escape.direction);
     }
-    const std::optional<glm::vec3> opening =
-        portal_detail::opening_point(scene, geometry, tracer, shader, escape.start, escape.direction, offset);
+    const std::optional<glm::vec3>& opening = kept_openings[i];
     portals.openings.push_back({.point = opening.value_or(escape.start)});
     if (opening) portals.framed_openings.push_back({.point = *opening});
   }
@@ -379,12 +418,12 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
     budget -= kept;
     const std::vector<Escape> reached = portal_detail::thinned(emitter_escapes[instance], kept);
     std::vector<AimPoint>& openings = portals.emitter_openings[instance];
-    for (const Escape& escape : reached) {
-      const std::optional<glm::vec3> opening =
-          portal_detail::opening_point(scene, geometry, tracer, shader, escape.start, escape.direction, offset);
-      if (opening && glm::length(*opening - escape.start) < emitter_frame_share * escape.reach)
-        openings.push_back({.point = *opening});
-    }
+    const std::vector<std::optional<glm::vec3>> found = portal_detail::in_parallel(reached.size(), [&](std::size_t i) {
+      return portal_detail::opening_point(scene, geometry, tracer, shader, reached[i].start, reached[i].direction, offset);
+    });
+    for (std::size_t i = 0; i < reached.size(); ++i)
+      if (found[i] && glm::length(*found[i] - reached[i].start) < emitter_frame_share * reached[i].reach)
+        openings.push_back({.point = *found[i]});
     if (2 * openings.size() < reached.size()) openings.clear();
     portal_detail::set_spreads(openings, offset, alone);
   }

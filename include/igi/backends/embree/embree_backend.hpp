@@ -10,7 +10,7 @@
 ///     call per width, in place on the packets (their layout checked against Embree's types),
 ///     as two calls on the halves where the device has no kernels of the packet's width (16 on
 ///     CPUs without AVX-512, whose 16-wide calls would ignore the mask: detail::EmbreePacketWidths),
-///     and coherent 16-wide occlusion as two 8-wide calls while Embree's coherent 16-wide
+///     and coherent 16-wide occlusion with the incoherent flag while Embree's coherent 16-wide
 ///     occlusion kernel can loop (`detail::embree_coherent_occlusion16_may_loop`).
 /// Link with the CMake target igi::embree. Embree runs much faster with denormals flushed to zero
 /// (_MM_SET_FLUSH_ZERO_MODE / _MM_SET_DENORMALS_ZERO_MODE on each tracing thread); the backend
