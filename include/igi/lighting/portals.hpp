@@ -29,6 +29,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 
 #include "igi/backends/packet.hpp"
@@ -38,6 +39,7 @@
 #include "igi/shading/constants.hpp"
 #include "igi/shading/surface_hit_builder.hpp"
 #include "igi/shading/surface_shader.hpp"
+#include "igi/simd/float_mode.hpp"
 #include "igi/simd/sampling.hpp"
 
 namespace igi {
@@ -123,11 +125,15 @@ void for_each_view_ray(const PinholeProjection& projection, int samples, std::ui
 namespace portal_detail {
 
 /// `work(i)` for i in [0, count) as oneTBB tasks, each result in slot i of the returned vector:
-/// the same results, in the same order, on any number of threads.
+/// the same results, in the same order, on any number of threads (each task flushes denormals,
+/// as the frame's tracing threads do).
 template <class Work>
 auto in_parallel(std::size_t count, Work&& work) {
   std::vector<decltype(work(std::size_t(0)))> results(count);
-  tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) { results[i] = work(i); });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const tbb::blocked_range<std::size_t>& range) {
+    const FlushDenormals flush;
+    for (std::size_t i = range.begin(); i != range.end(); ++i) results[i] = work(i);
+  });
   return results;
 }
 
