@@ -77,8 +77,8 @@ struct RenderSettings {
   /// With temporal reuse: a first hit that shows the surface the previous frame showed around it
   /// takes that frame's answers for the delta lights' (point, spot, sun) shadow rays instead of
   /// tracing them again, unless the scene changed or the answers disagree (a shadow's edge); each
-  /// pixel still traces them every TemporalReuse-independent shadow_refresh_frames-th frame. The
-  /// image is the traced one up to shadows finer than a pixel. false: every frame traces them all.
+  /// pixel still traces them every shadow_refresh_frames-th frame (frame_state.hpp). The image is
+  /// the traced one up to shadows finer than a pixel. false: every frame traces them all.
   bool reuse_shadows = true;
   std::uint32_t seed = 0;         ///< Randomisation of the QMC sequences.
   int threads = 0;                ///< Worker threads; 0 means all cores.
