@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/backends/reference/reference_backend.hpp"
@@ -78,6 +81,16 @@ inline bool all_finite(const Frame& frame) {
   for (const glm::vec3& p : frame.hdr.pixels)
     if (!std::isfinite(p.r) || !std::isfinite(p.g) || !std::isfinite(p.b)) return false;
   return true;
+}
+
+/// `start` moved `index` steps of a walk: each `metres` sideways (along world x) and turned
+/// `degrees` about its own vertical axis.
+inline Camera walked_camera(const Camera& start, std::uint32_t index, float metres, float degrees) {
+  Camera camera = start;
+  const float step = float(index);
+  camera.camera_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(metres * step, 0.0f, 0.0f)) * camera.camera_to_world *
+                           glm::rotate(glm::mat4(1.0f), glm::radians(degrees * step), glm::vec3(0.0f, 1.0f, 0.0f));
+  return camera;
 }
 
 /// A renderer of `scene` through Embree with its glTF materials, the paper's VPL walks and the

@@ -9,8 +9,6 @@
 #include <cmath>
 #include <vector>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "render_support.hpp"
 #include "igi/scene/window_room.hpp"
 
@@ -21,13 +19,7 @@ namespace {
 
 /// The room's camera `index` frames into a walk: 2 cm a frame sideways and a turn of 0.3
 /// degrees, a few tenths of a pixel at 96 x 64.
-Camera walked(const Camera& start, std::uint32_t index) {
-  Camera camera = start;
-  const float step = float(index);
-  camera.camera_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(0.02f * step, 0.0f, 0.0f)) * camera.camera_to_world *
-                           glm::rotate(glm::mat4(1.0f), glm::radians(0.3f * step), glm::vec3(0.0f, 1.0f, 0.0f));
-  return camera;
-}
+Camera walked(const Camera& start, std::uint32_t index) { return walked_camera(start, index, 0.02f, 0.3f); }
 
 RenderSettings room_settings(bool reuse) {
   RenderSettings settings;

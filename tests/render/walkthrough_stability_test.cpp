@@ -11,8 +11,6 @@
 #include <cmath>
 #include <vector>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "render_support.hpp"
 #include "igi/io/srgb.hpp"
 #include "igi/scene/window_room.hpp"
@@ -45,13 +43,7 @@ struct Walk {
 
 /// The window room's camera `index` frames into a slow walk: 1 cm a frame sideways and a turn of
 /// 0.1 degrees, about a tenth of a pixel at 96 x 64, as a user edging along.
-Camera walked(const Camera& start, std::uint32_t index) {
-  Camera camera = start;
-  const float step = float(index);
-  camera.camera_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(0.01f * step, 0.0f, 0.0f)) * camera.camera_to_world *
-                           glm::rotate(glm::mat4(1.0f), glm::radians(0.1f * step), glm::vec3(0.0f, 1.0f, 0.0f));
-  return camera;
-}
+Camera walked(const Camera& start, std::uint32_t index) { return walked_camera(start, index, 0.01f, 0.1f); }
 
 }  // namespace
 
