@@ -47,6 +47,15 @@ VplView first_camera_view(const Scene& scene) {
           .clamp_distance = resolve_clamp(render, glm::length(scene.bounds().extent()))};
 }
 
+// The window room seen from its first camera, with what the tests trace and shade it with.
+struct WindowRoomView {
+  Scene scene = window_room();
+  VplView view = first_camera_view(scene);
+  EmbreeBackend<4> backend{scene};
+  GltfMaterialShader shader{scene};
+  SceneGeometry geometry{scene};
+};
+
 // The settings of frame `frame` with M = `vpls` seen from `view` (borrowed: it must outlive them).
 VplSettings view_settings(const Scene& scene, const VplView& view, int vpls, std::uint32_t frame, std::uint32_t seed = 3) {
   RenderSettings render;
@@ -196,10 +205,14 @@ TEST_CASE("ImportanceVplSampler: the same VPLs on every packet width, and on eve
   const VplSets saarcor = sampler.generate(scene, SaarcorBackend(scene), shader, StandardBrdf{}, settings);
   CHECK(same(embree1, embree16));
   // The window room's VPLs lie within 25 m of the origin: float rounding of a hit is about 2e-6 m
-  // there; 1e-4 m leaves room for a few bounces' worth. Intensities carry the same rounding
-  // through albedo products and 1/p: 1e-4 relative.
-  CHECK(close(embree1, reference, 1e-4f, 1e-4f));
-  CHECK(close(embree1, saarcor, 1e-4f, 1e-4f));
+  // there, but a particle that travels 20 m (the sun's start outside) and meets a surface at a
+  // grazing angle carries it along the surface: QMC's own walks, with or without portals, differ between Embree and the
+  // reference backend by more than 0.1 mm in about one VPL of 140 a frame, at most 0.45 mm over
+  // 32 frames (at bounces 1 to 9), so positions agree within 1 mm. Intensities carry the
+  // rounding through albedo products and 1/p, and a VPL moved by 0.5 mm changes its c, and so
+  // its 1/p, by about 0.5 mm over its distance to the view points (1-5 m; measured 1.2e-4): 1e-3.
+  CHECK(close(embree1, reference, 1e-3f, 1e-3f));
+  CHECK(close(embree1, saarcor, 1e-3f, 1e-3f));
   // ... and they depend on the frame and the seed.
   CHECK_FALSE(same(embree1, sampler.generate(scene, EmbreeBackend<1>(scene), shader, StandardBrdf{}, view_settings(scene, view, 16, 5))));
   CHECK_FALSE(same(embree1, sampler.generate(scene, EmbreeBackend<1>(scene), shader, StandardBrdf{}, view_settings(scene, view, 16, 4, 9))));
@@ -292,30 +305,26 @@ TEST_CASE("ImportanceVplSampler: in the window room the kept VPLs light what the
           "[lighting][vpl][importance][window]") {
   // Judged by an independent, denser view estimate (1024 camera rays of another jitter): the share
   // of VPLs (the sun's exact one aside) that add nothing to the view.
-  const Scene scene = window_room();
-  const VplView view = first_camera_view(scene);
-  const EmbreeBackend<4> backend(scene);
-  const GltfMaterialShader shader(scene);
-  const SceneGeometry geometry(scene);
+  const WindowRoomView room;
   const ImportanceVplSampler dense({.view_samples = 1024});
   double unseen[2] = {0, 0}, count[2] = {0, 0};
   for (std::uint32_t frame = 0; frame < 4; ++frame) {
     // The paper's walks, spread over the scene: aiming them through the window (portals) is
     // another way to the same end, measured in the portals' own tests.
-    VplSettings settings = view_settings(scene, view, 16, frame);
+    VplSettings settings = view_settings(room.scene, room.view, 16, frame);
     settings.portal_share = 0.0f;
-    const VplSettings judge_settings = view_settings(scene, view, 16, frame + 1000);
-    const ViewImportance judge(dense.view_points(scene, geometry, backend, shader, judge_settings),
-                               judge_settings.view->clamp_distance, scene.bounds());
+    const VplSettings judge_settings = view_settings(room.scene, room.view, 16, frame + 1000);
+    const ViewImportance judge(dense.view_points(room.scene, room.geometry, room.backend, room.shader, judge_settings),
+                               judge_settings.view->clamp_distance, room.scene.bounds());
     const VplGeneration generations[2] = {
-        ImportanceVplSampler{}.generate_with_statistics(scene, backend, shader, StandardBrdf{}, settings).generation,
-        QmcVplSampler{}.generate_with_origins(scene, backend, shader, StandardBrdf{}, settings)};
+        ImportanceVplSampler{}.generate_with_statistics(room.scene, room.backend, room.shader, StandardBrdf{}, settings).generation,
+        QmcVplSampler{}.generate_with_origins(room.scene, room.backend, room.shader, StandardBrdf{}, settings)};
     for (int which = 0; which < 2; ++which)
       for (std::size_t s = 0; s < generations[which].vpls.sets.size(); ++s)
         for (std::size_t i = 0; i < generations[which].vpls.sets[s].size(); ++i) {
           if (generations[which].origins[s][i].walk < 0) continue;
           count[which] += 1;
-          if (judge.contribution(generations[which].vpls.sets[s][i], backend) == 0.0) unseen[which] += 1;
+          if (judge.contribution(generations[which].vpls.sets[s][i], room.backend) == 0.0) unseen[which] += 1;
         }
   }
   const double importance_unseen = unseen[0] / count[0], qmc_unseen = unseen[1] / count[1];
@@ -367,6 +376,42 @@ TEST_CASE("ImportanceVplSampler: each set's mean power over frames is QmcVplSamp
     agree(importance, qmc, "set power");
     if (window) agree(importance_room, qmc_room, "set power inside the room");
   }
+}
+
+TEST_CASE("ImportanceVplSampler: the kept VPLs carry their candidates' light on the view points, frame after frame",
+          "[lighting][vpl][importance]") {
+  // The kept VPLs' contributions (c / p each: a VPL's c is linear in its intensity) against the
+  // candidates' (the sets' sum of c, 9 x image_flux), in units of the threshold tau, over 64
+  // frames of the window room under the paper's walks. Independent coins (Russian roulette) keep
+  // a binomial count of VPLs and with it of the view's light; systematic sampling keeps each
+  // set's sum of p rounded, which leaves the split of its VPLs between seen candidates and the
+  // floor's unseen ones (about 1.2 tau a set, 3.6 tau a frame). Measured: 3.3 tau, and 6.1 tau
+  // with the coins put back (over 32 frames).
+  const WindowRoomView room;
+  const ImportanceVplSampler sampler;
+  double squares = 0.0;
+  constexpr int frames = 64;  // the RMS to about 9%
+  for (int f = 0; f < frames; ++f) {
+    VplSettings settings = view_settings(room.scene, room.view, 16, std::uint32_t(f));
+    settings.portal_share = 0.0f;
+    const ImportanceVplGeneration g = sampler.generate_with_statistics(room.scene, room.backend, room.shader, StandardBrdf{}, settings);
+    REQUIRE(g.qmc_acceptance < 1.0);
+    REQUIRE(g.threshold > 0.0);
+    // The sampler's own view points (a pure function of the frame), so c is the sampler's.
+    const ViewImportance importance(sampler.view_points(room.scene, room.geometry, room.backend, room.shader, settings),
+                                    settings.view->clamp_distance, room.scene.bounds());
+    double kept = 0.0;
+    for (std::size_t s = 0; s < g.generation.vpls.sets.size(); ++s)
+      for (std::size_t i = 0; i < g.generation.vpls.sets[s].size(); ++i)
+        if (g.generation.origins[s][i].walk >= 0) kept += importance.contribution(g.generation.vpls.sets[s][i], room.backend);
+    const double candidates = g.image_flux * double(g.generation.vpls.sets.size());
+    const double deviation = (kept - candidates) / g.threshold;
+    squares += deviation * deviation / frames;
+  }
+  const double spread = std::sqrt(squares);
+  std::printf("window: kept VPLs' view light minus the candidates', RMS over %d frames: %.2f tau\n", frames, spread);
+  // 4.8 tau: a third above the expected 3.6 (three times the RMS's own noise), a fifth below the coins'.
+  CHECK(spread < 4.8);
 }
 
 TEST_CASE("ImportanceVplSampler: evenly lit views, no lights, no view points - QMC's VPLs", "[lighting][vpl][importance]") {
