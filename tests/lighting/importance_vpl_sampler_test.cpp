@@ -206,11 +206,12 @@ TEST_CASE("ImportanceVplSampler: the same VPLs on every packet width, and on eve
   CHECK(same(embree1, embree16));
   // The window room's VPLs lie within 25 m of the origin: float rounding of a hit is about 2e-6 m
   // there, but a particle that travels 20 m (the sun's start outside) and meets a surface at a
-  // grazing angle carries it along the surface: QMC's own walks, with or without portals, differ between Embree and the
-  // reference backend by more than 0.1 mm in about one VPL of 140 a frame, at most 0.45 mm over
-  // 32 frames (at bounces 1 to 9), so positions agree within 1 mm. Intensities carry the
-  // rounding through albedo products and 1/p, and a VPL moved by 0.5 mm changes its c, and so
-  // its 1/p, by about 0.5 mm over its distance to the view points (1-5 m; measured 1.2e-4): 1e-3.
+  // grazing angle carries it along the surface: QMC's own walks, with or without portals,
+  // differ between Embree and the reference backend by more than 0.1 mm in about one VPL of 140
+  // a frame, at most 0.45 mm over 32 frames (at bounces 1 to 9), so positions agree within 1 mm.
+  // Intensities carry the rounding through albedo products and 1/p, and a VPL moved by 0.5 mm
+  // changes its c, and so its 1/p, by about 0.5 mm over its distance to the view points (1-5 m;
+  // measured 1.2e-4): 1e-3.
   CHECK(close(embree1, reference, 1e-3f, 1e-3f));
   CHECK(close(embree1, saarcor, 1e-3f, 1e-3f));
   // ... and they depend on the frame and the seed.
