@@ -149,6 +149,8 @@ struct Method {
   bool path_traced = false;     ///< DenoisedPathTracer at 1 sample per pixel instead of IGI.
   float portal_share = RenderSettings{}.portal_share;  ///< --portal-share (IGI only).
   int vpls = RenderSettings{}.vpls_per_pixel;          ///< --vpls (IGI only).
+  float roulette = RenderSettings{}.shadow_roulette;   ///< --roulette (IGI only).
+  int compensate = RenderSettings{}.compensation_rays; ///< --compensate (IGI only).
 };
 
 /// The methods measured: igi-render's and igi-view's defaults (temporal reuse over 32 frames,
@@ -167,6 +169,35 @@ const std::vector<Method> all_methods = {
     {"paper 12 VPLs", "qmc", 0, false, RenderSettings{}.portal_share, 12},
     {"default 4 VPLs", "qmc", default_temporal_frames, false, RenderSettings{}.portal_share, 4},
     {"default 1 VPL", "qmc", default_temporal_frames, false, RenderSettings{}.portal_share, 1}};
+
+/// A method given by its settings: "custom" and then any of vpls=M, sampler=qmc|importance,
+/// temporal=FRAMES, portal-share=SHARE, roulette=FRACTION and compensate=RAYS, separated by
+/// spaces; unnamed settings are the default method's. Throws UsageError naming a bad one.
+Method custom_method(const std::string& spec) {
+  Method method = all_methods.front();
+  method.name = spec;
+  std::istringstream words(spec);
+  std::string word;
+  words >> word;  // "custom"
+  while (words >> word) {
+    const std::size_t equals = word.find('=');
+    const std::string key = word.substr(0, equals), value = equals == std::string::npos ? "" : word.substr(equals + 1);
+    try {
+      std::size_t used = 0;
+      if (key == "vpls") method.vpls = std::stoi(value, &used);
+      else if (key == "temporal") method.temporal_frames = std::stoi(value, &used);
+      else if (key == "portal-share") method.portal_share = std::stof(value, &used);
+      else if (key == "roulette") method.roulette = std::stof(value, &used);
+      else if (key == "compensate") method.compensate = std::stoi(value, &used);
+      else if (key == "sampler" && (value == "qmc" || value == "importance")) method.vpl_sampler = value, used = value.size();
+      if (used == 0 || used != value.size()) throw std::invalid_argument(word);
+    } catch (const std::exception&) {
+      throw UsageError("--methods: '" + word + "' in '" + spec +
+                       "' is not one of vpls=M, sampler=qmc|importance, temporal=FRAMES, portal-share=SHARE, roulette=FRACTION, compensate=RAYS");
+    }
+  }
+  return method;
+}
 
 /// Everything the command line decides.
 struct Options {
@@ -386,6 +417,8 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
       settings.temporal_frames = method.temporal_frames;
       settings.portal_share = method.portal_share;
       settings.vpls_per_pixel = method.vpls;
+      settings.shadow_roulette = method.roulette;
+      settings.compensation_rays = method.compensate;
       sampler.emplace(method.vpl_sampler);
       renderer.emplace(scene, settings, surface, brdf, *sampler, filter);
     }
@@ -441,7 +474,9 @@ int main(int argc, char** argv) {
   command_line.add("--scenes", options.scenes, "folder of the shared scenes (sponza/Sponza_lit.gltf)");
   command_line.add("--forest", options.forest, "the outdoor scene: a file of bench/scenes/forest.py (the forest walk is skipped without it)");
   command_line.add("--walks", options.walks, "walks to measure, comma-separated (default: all)");
-  command_line.add("--methods", options.methods, "methods to measure, comma-separated (default: all)");
+  command_line.add("--methods", options.methods,
+                   "methods to measure, comma-separated (default: all); 'custom vpls=4 roulette=0.5' is the default "
+                   "method with the settings named (vpls, sampler, temporal, portal-share, roulette, compensate)");
   command_line.add("--size", options.size, "image size");
   command_line.add("--frames", options.frames, "frames per walk").range(2, 100000);
   command_line.add("--fps", options.fps, "frames per second along the camera paths");
@@ -465,8 +500,12 @@ int main(int argc, char** argv) {
       if (method_names.empty() || std::find(method_names.begin(), method_names.end(), method.name) != method_names.end())
         methods.push_back(method);
     for (const std::string& name : method_names)
-      if (std::none_of(all_methods.begin(), all_methods.end(), [&](const Method& m) { return m.name == name; }))
-        throw UsageError("--methods: no method '" + name + "' (default, paper, no portals, importance, path 1spp denoised, paper 12 VPLs, default 4 VPLs, default 1 VPL)");
+      if (name.rfind("custom", 0) == 0)
+        methods.push_back(custom_method(name));
+      else if (std::none_of(all_methods.begin(), all_methods.end(), [&](const Method& m) { return m.name == name; }))
+        throw UsageError("--methods: no method '" + name +
+                         "' (default, paper, no portals, importance, path 1spp denoised, paper 12 VPLs, default 4 VPLs, "
+                         "default 1 VPL, or custom followed by settings)");
     const std::vector<Walk> known = all_walks();
     for (const std::string& name : walk_names)
       if (std::none_of(known.begin(), known.end(), [&](const Walk& w) { return w.name == name; }))

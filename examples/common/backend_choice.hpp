@@ -41,12 +41,17 @@ std::string describe_backends(BackendList<Backends...> list) {
   std::string text;
   std::string_view previous;
   for (const BackendChoice& choice : backend_choices(list)) {
+    // Appended piece by piece: "," + std::to_string(...) inserts at the front of a temporary,
+    // which GCC 12 flags (-Wrestrict, a false positive) where it inlines this function.
     if (choice.backend == previous) {
-      text += "," + std::to_string(choice.packet);
+      text += ',';
+      text += std::to_string(choice.packet);
       continue;
     }
     if (!text.empty()) text += ", ";
-    text += std::string(choice.backend) + "/" + std::to_string(choice.packet);
+    text += choice.backend;
+    text += '/';
+    text += std::to_string(choice.packet);
     previous = choice.backend;
   }
   return text;

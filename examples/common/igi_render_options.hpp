@@ -32,7 +32,7 @@ inline void add_igi_render_options(CommandLine& command_line, IgiRenderOptions& 
                      "render --frames frames of a moving scene to an image sequence: -o out.png writes out_0000.png, "
                      "out_0001.png, ...; -o frames/%04d.png numbers them printf-style. light: the lights circle, "
                      "object: the smallest object slides, camera: the view orbits the scene");
-  add_temporal_option(command_line, options.temporal,
+  add_temporal_option(command_line, options.temporal, options.settings,
                       "By default " + std::to_string(default_temporal_frames) +
                           " frames with --integrator igi (the path tracer accumulates its passes anyway)");
   add_play_options(command_line, options);
@@ -89,6 +89,7 @@ inline StatsJson igi_frame_statistics(const IgiRenderOptions& options, const std
       .set("shadow_roulette", double(options.settings.shadow_roulette))
       .set("max_bounces", options.settings.max_bounces)
       .set("temporal_frames", options.settings.temporal_frames)
+      .set("reuse_shadows", options.settings.reuse_shadows && options.settings.temporal_frames > 0)
       .set("vpls_per_frame", frame.vpls)
       .set("vpl_ms", frame.vpl_milliseconds)
       .set("temporal_ms", frame.temporal_milliseconds);

@@ -131,7 +131,8 @@ void add_sampling_options(CommandLine& command_line, RenderSettings& settings) {
       .show_default();
 }
 
-void add_temporal_option(CommandLine& command_line, std::optional<int>& temporal, const std::string& default_help) {
+void add_temporal_option(CommandLine& command_line, std::optional<int>& temporal, RenderSettings& settings,
+                         const std::string& default_help) {
   command_line.add("--temporal", temporal,
                    "temporal reuse: each pixel averages up to this many frames of its history, reprojected with the "
                    "camera's motion, dropped where another surface shows and clamped to the new frame's neighbourhood "
@@ -139,6 +140,11 @@ void add_temporal_option(CommandLine& command_line, std::optional<int>& temporal
                    "towards the unclamped one. " + default_help +
                    "; 0: off, every frame rendered by itself as in the paper")
       .range(0, max_temporal_frames);
+  // CLI11's {false}: the flag sets reuse_shadows to false.
+  command_line.flag("--trace-shadows{false}", settings.reuse_shadows,
+                    "with temporal reuse, trace every shadow ray towards the point, spot and directional lights in "
+                    "every frame (default: a first hit that shows the surface the previous frame showed around it "
+                    "takes that frame's answers where they agree, and traces them every 8th frame)");
 }
 
 void add_filter_options(CommandLine& command_line, std::string& filter, RenderSettings& settings) {

@@ -71,8 +71,9 @@ void add_sampling_options(CommandLine& command_line, RenderSettings& settings);
 inline constexpr int default_temporal_frames = 32;
 /// Adds --temporal (programs that render whole frames in one process), setting `temporal` when
 /// given; unset, the program chooses (default_temporal_frames for IGI frames). `default_help`
-/// says what the program does without it.
-void add_temporal_option(CommandLine& command_line, std::optional<int>& temporal, const std::string& default_help);
+/// says what the program does without it. Also --trace-shadows (RenderSettings::reuse_shadows off).
+void add_temporal_option(CommandLine& command_line, std::optional<int>& temporal, RenderSettings& settings,
+                         const std::string& default_help);
 /// Adds --filter (discontinuity, atrous, box or none), --filter-delta-lights (RenderSettings::filter_delta_lights)
 /// and --point-textures (RenderSettings::filter_textures off).
 void add_filter_options(CommandLine& command_line, std::string& filter, RenderSettings& settings);

@@ -504,7 +504,7 @@ int main(int argc, char** argv) {
   igi::programs::add_backend_options(command_line, options.backend, options.packet);
   igi::programs::add_threads_option(command_line, options.settings.threads, "worker threads (0: all cores)");
   igi::programs::add_seed_option(command_line, options.settings.seed);
-  igi::programs::add_temporal_option(command_line, options.temporal,
+  igi::programs::add_temporal_option(command_line, options.temporal, options.settings,
                                      "By default " + std::to_string(igi::programs::default_temporal_frames) +
                                          " frames (the T key switches it off and on)");
   command_line.add("--frames", options.frames, "quit after this many frames (0: run until closed)").range(0, 1000000).show_default();

@@ -201,4 +201,7 @@ TEST_CASE("igi-render averages IGI frames by default, --temporal 0 renders each 
   CHECK_THROWS_WITH(igi_render_options({"--integrator", "path", "--temporal", "8"}),
                     Catch::Contains("needs --integrator igi"));
   CHECK_THROWS_AS(igi_render_options({"--temporal", "-1"}), UsageError);
+  // The delta lights' shadow answers are reused with temporal reuse unless --trace-shadows.
+  CHECK(igi_render_options({}).settings.reuse_shadows);
+  CHECK_FALSE(igi_render_options({"--trace-shadows"}).settings.reuse_shadows);
 }
