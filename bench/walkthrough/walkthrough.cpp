@@ -182,19 +182,25 @@ Method custom_method(const std::string& spec) {
   while (words >> word) {
     const std::size_t equals = word.find('=');
     const std::string key = word.substr(0, equals), value = equals == std::string::npos ? "" : word.substr(equals + 1);
+    // How many characters of `value` the number read (0: no such setting).
+    std::size_t used = 0;
     try {
-      std::size_t used = 0;
       if (key == "vpls") method.vpls = std::stoi(value, &used);
-      else if (key == "temporal") method.temporal_frames = std::stoi(value, &used);
-      else if (key == "portal-share") method.portal_share = std::stof(value, &used);
-      else if (key == "roulette") method.roulette = std::stof(value, &used);
-      else if (key == "compensate") method.compensate = std::stoi(value, &used);
-      else if (key == "sampler" && (value == "qmc" || value == "importance")) method.vpl_sampler = value, used = value.size();
-      if (used == 0 || used != value.size()) throw std::invalid_argument(word);
+      if (key == "temporal") method.temporal_frames = std::stoi(value, &used);
+      if (key == "portal-share") method.portal_share = std::stof(value, &used);
+      if (key == "roulette") method.roulette = std::stof(value, &used);
+      if (key == "compensate") method.compensate = std::stoi(value, &used);
     } catch (const std::exception&) {
-      throw UsageError("--methods: '" + word + "' in '" + spec +
-                       "' is not one of vpls=M, sampler=qmc|importance, temporal=FRAMES, portal-share=SHARE, roulette=FRACTION, compensate=RAYS");
+      used = 0;  // not a number
     }
+    if (key == "sampler" && (value == "qmc" || value == "importance")) {
+      method.vpl_sampler = value;
+      used = value.size();
+    }
+    if (used == 0 || used != value.size())
+      throw UsageError("--methods: '" + word + "' in '" + spec +
+                       "' is not one of vpls=M, sampler=qmc|importance, temporal=FRAMES, portal-share=SHARE, "
+                       "roulette=FRACTION, compensate=RAYS");
   }
   return method;
 }
