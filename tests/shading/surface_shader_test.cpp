@@ -97,6 +97,42 @@ TEST_CASE("texture: sRGB table and bilinear lookups with repeat wrapping", "[sha
   CHECK(sample_bilinear(checker(true), {0.75f, 0.75f}).w == Approx(128.0f / 255.0f));
 }
 
+TEST_CASE("texture: the alpha-only lookup reads what the full lookup's alpha reads", "[shading][texture]") {
+  // Irregular alpha (and colour) over an odd-sized texture, so that every texel and weight differs.
+  Texture t;
+  t.width = 7;
+  t.height = 5;
+  for (int i = 0; i < t.width * t.height * 4; ++i) t.texels.push_back(std::uint8_t((i * 97 + 13) % 256));
+  std::mt19937 random(3);
+  std::uniform_real_distribution<float> coordinate(-3.0f, 3.0f);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), infinity = std::numeric_limits<float>::infinity();
+  for (const bool srgb : {false, true}) {
+    t.srgb = srgb;
+    // The same arithmetic, up to the compiler fusing a multiply and an add into one rounding in
+    // one of the two and not the other: a few units in the last place of values in [0, 1].
+    for (int k = 0; k < 200; ++k) {
+      const glm::vec2 uv(coordinate(random), coordinate(random));
+      CHECK(std::abs(sample_bilinear_alpha(t, uv) - sample_bilinear(t, uv).a) <= 4.0f * std::numeric_limits<float>::epsilon());
+    }
+    for (const glm::vec2 uv : {glm::vec2(nan, 0.3f), glm::vec2(0.2f, infinity), glm::vec2(1e30f, -1e30f), glm::vec2(1.0f, 0.0f)})
+      CHECK(std::abs(sample_bilinear_alpha(t, uv) - sample_bilinear(t, uv).a) <= 4.0f * std::numeric_limits<float>::epsilon());
+    // Packets: lanes off the mask are zero, the others their own point's alpha.
+    vfloat<8> u, v;
+    vmask<8> mask;
+    for (int i = 0; i < 8; ++i) {
+      u.set(i, coordinate(random));
+      v.set(i, coordinate(random));
+      mask.set(i, i % 3 != 1);
+    }
+    const vfloat<8> alpha = sample_bilinear_alpha(t, u, v, mask);
+    const TexelPacket<8> full = sample_bilinear(t, u, v, mask);
+    for (int i = 0; i < 8; ++i)
+      CHECK(std::abs(alpha[i] - full.a[i]) <= 4.0f * std::numeric_limits<float>::epsilon());
+    for (int i = 1; i < 8; i += 3) CHECK(alpha[i] == 0.0f);
+  }
+  CHECK(sample_bilinear_alpha(Texture{}, {0.5f, 0.5f}) == 1.0f);
+}
+
 namespace {
 
 // A `width` x `height` texture of `srgb` texels from `value(x, y, channel)`.

@@ -199,7 +199,7 @@ inline BrdfParameters<W> gltf_material_parameters(std::span<const TextureMips> m
     const vmask<W> point_alpha = mask & (hit.texture_footprint > zero);
     if (material.alpha_mode == AlphaMode::mask && any(point_alpha)) {
       const auto [u, v] = transformed_uv(material.base_color_transform, hit);
-      texture_alpha = select(point_alpha, sample_bilinear(chain.level(0), u, v, point_alpha).a, texture_alpha);
+      texture_alpha = select(point_alpha, sample_bilinear_alpha(chain.level(0), u, v, point_alpha), texture_alpha);
     }
     alpha = alpha * texture_alpha;
   }
@@ -361,7 +361,7 @@ class GltfMaterialShader {
         const float b1 = candidate.u, b2 = candidate.v, b0 = 1.0f - b1 - b2;
         uv = b0 * mesh.uvs[triangle.x] + b1 * mesh.uvs[triangle.y] + b2 * mesh.uvs[triangle.z];
       }
-      alpha *= sample_bilinear((*mips_)[std::size_t(material.base_color_texture)].level(0), material.base_color_transform.apply(uv)).a;
+      alpha *= sample_bilinear_alpha((*mips_)[std::size_t(material.base_color_texture)].level(0), material.base_color_transform.apply(uv));
     }
     return alpha >= material.alpha_cutoff;
   }

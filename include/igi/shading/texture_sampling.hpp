@@ -80,22 +80,24 @@ struct LaneTextures {
   bool uniform = false;                         ///< True if every lane reads texels[0].
 };
 
+/// The RGBA8 texels at texel index `index` (row-major) of each lane's texture as 32-bit words,
+/// R in the lowest byte (memory order, on the little-endian x86 igi targets): one load per lane.
+template <int W>
+[[gnu::always_inline]] inline vint<W> texel_words(const LaneTextures<W>& textures, const vint<W>& index) noexcept {
+  // One texture: the texels as 32-bit words (the vector's storage is aligned for them).
+  if (textures.uniform) return gather_every(reinterpret_cast<const std::int32_t*>(textures.texels[0]), index);
+  return vint<W>([&](int i) {
+    std::uint32_t rgba;
+    std::memcpy(&rgba, textures.texels[std::size_t(i)] + std::size_t(index[i]) * 4, 4);
+    return std::int32_t(rgba);
+  });
+}
+
 /// The texels' RGBA at texel index `index` (row-major) of each lane's texture, linear. One
 /// 32-bit load per lane and texel; sRGB colour decoded through the 256-entry table.
 template <int W>
 [[gnu::always_inline]] inline TexelPacket<W> texels_at(const LaneTextures<W>& textures, const vint<W>& index, bool srgb) noexcept {
-  // R in the lowest byte (memory order), on the little-endian x86 igi targets.
-  vint<W> word;
-  if (textures.uniform) {
-    // One texture: the texels as 32-bit words (the vector's storage is aligned for them).
-    word = gather_every(reinterpret_cast<const std::int32_t*>(textures.texels[0]), index);
-  } else {
-    word = vint<W>([&](int i) {
-      std::uint32_t rgba;
-      std::memcpy(&rgba, textures.texels[std::size_t(i)] + std::size_t(index[i]) * 4, 4);
-      return std::int32_t(rgba);
-    });
-  }
+  const vint<W> word = texel_words(textures, index);
   const vint<W> byte(0xff);
   const vint<W> red = word & byte, green = (word >> 8) & byte, blue = (word >> 16) & byte;
   const vint<W> alpha = (word >> 24) & byte;  // >> of a negative int32 fills with ones: the mask removes them
@@ -115,15 +117,19 @@ template <int W>
   return texel;
 }
 
-/// Bilinear lookup with repeat wrapping in each lane's texture (`textures`, all readable, all
-/// sRGB or all linear), zero off `mask`: sample_bilinear's arithmetic.
-// Out of line, and the lookups that call it inline rather than always inlined: with all of them
-// forced inline (four texel loads per lane, three table lookups each, in every lookup of the
-// glTF shader, at every packet width) igi-render's translation unit compiled for 8 minutes
-// without finishing; 1.3 minutes now.
+/// The four texels a bilinear lookup reads in each lane's texture (row-major indices) and the
+/// weights between them (fx along the rows, fy down the columns).
 template <int W>
-[[gnu::noinline]] TexelPacket<W> bilinear(const LaneTextures<W>& textures, bool srgb, vfloat<W> u, vfloat<W> v,
-                                           const vmask<W>& mask) noexcept {
+struct BilinearFootprint {
+  vint<W> top_left, top_right, bottom_left, bottom_right;  ///< Texel indices.
+  vfloat<W> fx, fy;                                        ///< Weights of the right and bottom texels.
+};
+
+/// Where a bilinear lookup with repeat wrapping at (u, v) reads in each lane's texture; lanes
+/// off `mask` and non-finite coordinates read about texel (0, 0).
+template <int W>
+[[gnu::always_inline]] inline BilinearFootprint<W> bilinear_footprint(const LaneTextures<W>& textures, vfloat<W> u, vfloat<W> v,
+                                                                     const vmask<W>& mask) noexcept {
   const vfloat<W> zero(0.0f);
   u = select(mask & isfinite(u), u, zero);  // non-finite coordinates read texel (0, 0)
   v = select(mask & isfinite(v), v, zero);
@@ -133,7 +139,6 @@ template <int W>
   const vfloat<W> x = u * convert<float>(textures.width) - vfloat<W>(0.5f);
   const vfloat<W> y = v * convert<float>(textures.height) - vfloat<W>(0.5f);
   const vfloat<W> x_floor = floor(x), y_floor = floor(y);
-  const vfloat<W> fx = x - x_floor, fy = y - y_floor;
   // The wrapped uv lies in [0, 1] (1 where a tiny negative coordinate rounds up), so x and y lie
   // in [-0.5, size - 0.5] (a few units more only where float(size) rounds, above 2^24 texels):
   // the neighbours lie within one period of the texture, and one addition or subtraction wraps
@@ -147,10 +152,40 @@ template <int W>
   const vint<W> x0 = wrap(x_base, textures.width), x1 = wrap(x_base + one, textures.width);
   const vint<W> row0 = wrap(y_base, textures.height) * textures.width;
   const vint<W> row1 = wrap(y_base + one, textures.height) * textures.width;
-  const TexelPacket<W> top = mix_texels(texels_at(textures, row0 + x0, srgb), texels_at(textures, row0 + x1, srgb), fx);
-  const TexelPacket<W> bottom = mix_texels(texels_at(textures, row1 + x0, srgb), texels_at(textures, row1 + x1, srgb), fx);
-  const TexelPacket<W> result = mix_texels(top, bottom, fy);
+  return {row0 + x0, row0 + x1, row1 + x0, row1 + x1, x - x_floor, y - y_floor};
+}
+
+/// Bilinear lookup with repeat wrapping in each lane's texture (`textures`, all readable, all
+/// sRGB or all linear), zero off `mask`: sample_bilinear's arithmetic.
+// Out of line, and the lookups that call it inline rather than always inlined: with all of them
+// forced inline (four texel loads per lane, three table lookups each, in every lookup of the
+// glTF shader, at every packet width) igi-render's translation unit compiled for 8 minutes
+// without finishing; 1.3 minutes now.
+template <int W>
+[[gnu::noinline]] TexelPacket<W> bilinear(const LaneTextures<W>& textures, bool srgb, vfloat<W> u, vfloat<W> v,
+                                           const vmask<W>& mask) noexcept {
+  const BilinearFootprint<W> at = bilinear_footprint(textures, u, v, mask);
+  const TexelPacket<W> top = mix_texels(texels_at(textures, at.top_left, srgb), texels_at(textures, at.top_right, srgb), at.fx);
+  const TexelPacket<W> bottom =
+      mix_texels(texels_at(textures, at.bottom_left, srgb), texels_at(textures, at.bottom_right, srgb), at.fx);
+  const TexelPacket<W> result = mix_texels(top, bottom, at.fy);
   return {keep(result.r, mask), keep(result.g, mask), keep(result.b, mask), keep(result.a, mask)};
+}
+
+/// The alpha channel of `bilinear`, the same arithmetic without decoding the colour: alpha tests
+/// (every cut-out's shadow-ray candidate makes one) need nothing else, and decoding the colour
+/// was half their time (perf over Sponza_lit's walk).
+template <int W>
+[[gnu::noinline]] vfloat<W> bilinear_alpha(const LaneTextures<W>& textures, vfloat<W> u, vfloat<W> v, const vmask<W>& mask) noexcept {
+  const BilinearFootprint<W> at = bilinear_footprint(textures, u, v, mask);
+  // Alpha is the highest byte; texels_at's conversion.
+  const auto alpha_at = [&](const vint<W>& index) {
+    return convert<float>((texel_words(textures, index) >> 24) & vint<W>(0xff)) / vfloat<W>(255.0f);
+  };
+  const vfloat<W> s = vfloat<W>(1.0f) - at.fx, t = vfloat<W>(1.0f) - at.fy;
+  const vfloat<W> top = alpha_at(at.top_left) * s + alpha_at(at.top_right) * at.fx;
+  const vfloat<W> bottom = alpha_at(at.bottom_left) * s + alpha_at(at.bottom_right) * at.fx;
+  return keep(top * t + bottom * at.fy, mask);
 }
 
 /// Every lane reading `texture`.
@@ -209,6 +244,18 @@ inline TexelPacket<W> sample_bilinear(const Texture& texture, const vfloat<W>& u
 /// sample_bilinear for one point (`uv`), as RGBA.
 inline glm::vec4 sample_bilinear(const Texture& texture, glm::vec2 uv) noexcept {
   return sample_bilinear(texture, vfloat<1>(uv.x), vfloat<1>(uv.y), vmask<1>(true))[0];
+}
+
+/// The alpha of sample_bilinear(texture, u, v, mask), without decoding the colour.
+template <int W>
+inline vfloat<W> sample_bilinear_alpha(const Texture& texture, const vfloat<W>& u, const vfloat<W>& v,
+                                       const vmask<W>& mask) noexcept {
+  if (!texture_detail::readable(texture)) return keep(vfloat<W>(1.0f), mask);
+  return texture_detail::bilinear_alpha(texture_detail::same_texture<W>(texture), u, v, mask);
+}
+/// sample_bilinear_alpha for one point (`uv`).
+inline float sample_bilinear_alpha(const Texture& texture, glm::vec2 uv) noexcept {
+  return sample_bilinear_alpha(texture, vfloat<1>(uv.x), vfloat<1>(uv.y), vmask<1>(true))[0];
 }
 
 namespace texture_detail {
