@@ -215,6 +215,7 @@ struct Options {
   std::string size = "160x120";        ///< Image size as typed.
   std::string write_paths;             ///< With a folder: write the camera paths there and stop.
   int frames = 32;                     ///< Frames per walk.
+  int warm_up = 0;                     ///< Frames of the walk's first view rendered before it (not measured).
   int reference_spp = 256;             ///< Path-traced samples per pixel of each reference frame.
   int threads = 2;                     ///< Threads (0: all cores).
   double fps = 8.0;                    ///< Frames per second along the camera paths.
@@ -428,16 +429,20 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
       sampler.emplace(method.vpl_sampler);
       renderer.emplace(scene, settings, surface, brdf, *sampler, filter);
     }
-    // Frame f of the walk, its scene changes applied first.
-    const auto render = [&](std::size_t f) {
-      if (denoised) return denoised->render(denoised->apply(frames.changes[f]), std::uint32_t(f));
-      return renderer->render(renderer->apply(frames.changes[f]), std::uint32_t(f));
+    // Frame f of the walk, its scene changes applied first, as frame `index` of the run.
+    const auto render = [&](std::size_t f, std::size_t index) {
+      if (denoised) return denoised->render(denoised->apply(frames.changes[f]), std::uint32_t(index));
+      return renderer->render(renderer->apply(frames.changes[f]), std::uint32_t(index));
     };
+    // A viewer shows its first view for a while before the walk begins: its histories are then
+    // those of a still view, not empty.
+    const std::size_t warm_up = std::size_t(options.warm_up);
+    for (std::size_t index = 0; index < warm_up; ++index) render(0, index);
     std::vector<StatsJson> per_frame;
     std::vector<double> ratios, errors, flickers, floors, times;
     Image previous;
     for (std::size_t f = 0; f < frames.changes.size(); ++f) {
-      const Frame frame = render(f);
+      const Frame frame = render(f, warm_up + f);
       const double error = relmse(frame.hdr, reference[f].mean) - reference[f].noise;
       const double ratio = image_mean(frame.hdr) / image_mean(reference[f].mean);
       StatsJson row;
@@ -488,6 +493,9 @@ int main(int argc, char** argv) {
   command_line.add("--fps", options.fps, "frames per second along the camera paths");
   command_line.add("--reference-spp", options.reference_spp, "path-traced samples per pixel of each reference frame").range(2, 1 << 20);
   command_line.add("--threads", options.threads, "threads (0: all cores)");
+  command_line.add("--warm-up", options.warm_up,
+                   "frames of each walk's first view rendered before the walk, not measured (a viewer's still view before it moves)")
+      .range(0, 100000);
   command_line.add("--write-paths", options.write_paths, "write the camera paths into this folder and stop");
   if (const std::optional<int> exit_code = command_line.parse(argc, argv)) return *exit_code;
   try {
@@ -532,6 +540,7 @@ int main(int argc, char** argv) {
     StatsJson()
         .set("size", options.size)
         .set("frames", options.frames)
+        .set("warm_up", options.warm_up)
         .set("fps", options.fps)
         .set("reference_spp", options.reference_spp)
         .set("threads", options.threads)
