@@ -16,6 +16,7 @@
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
@@ -173,6 +174,29 @@ float aimed_density(const glm::vec3& point, const glm::vec3& centre, const glm::
   }
   return density / float(targets.size());
 }
+/// Solid-angle density, from `position`, of directions aimed through `opening`'s disc (aim_kernel
+/// on the disc across the line to it) at unit `direction`: the kernel where the direction's line
+/// crosses that disc, times the distance squared over the cosine cubed (the disc's area seen as
+/// solid angle from the point); 0 for directions away from it.
+inline float aimed_direction_density(const glm::vec3& position, const glm::vec3& direction, const AimPoint& opening) noexcept {
+  const glm::vec3 axis = opening.point - position;
+  const float distance2 = glm::dot(axis, axis);
+  if (!(distance2 > 0.0f)) return 0.0f;
+  const float along = glm::dot(direction, axis);  // distance x cos of the angle to the axis
+  if (!(along > 0.0f)) return 0.0f;
+  const float cosine = along / std::sqrt(distance2);
+  const glm::vec3 offset = position + direction * (distance2 / along) - opening.point;
+  return aim_kernel(glm::dot(offset, offset), opening.spread) * distance2 / (cosine * cosine * cosine);
+}
+/// A unit direction from `position` through `opening`'s disc, drawn from aim_kernel by (u1, u2)
+/// (aim_point's), whose density is aimed_direction_density.
+inline glm::vec3 aimed_direction(const glm::vec3& position, const AimPoint& opening, float u1, float u2) noexcept {
+  const glm::vec3 axis = opening.point - position;
+  const float distance = glm::length(axis);
+  glm::vec3 t1, t2;
+  orthonormal_basis(axis / std::max(distance, 1e-30f), t1, t2);
+  return glm::normalize(aim_point(opening.point, t1, t2, opening.spread, u1, u2) - position);
+}
 /// Density of the uniform point on the disc of `radius` about `centre` (in its plane): 1 / area inside, 0 outside.
 inline float disc_density(const glm::vec3& point, const glm::vec3& centre, float radius) noexcept {
   const glm::vec3 offset = point - centre;
@@ -245,13 +269,7 @@ class TriangleEmitter {
         const std::size_t count = openings_->size();
         const std::size_t k = std::min(std::size_t(u3 * float(count)), count - 1);
         const float within = std::min(u3 * float(count) - float(k), 0x1.fffffep-1f);
-        const AimPoint& opening = (*openings_)[k];
-        const glm::vec3 axis = opening.point - position;
-        const float distance = glm::length(axis);
-        glm::vec3 t1, t2;
-        orthonormal_basis(axis / std::max(distance, 1e-30f), t1, t2);
-        const glm::vec3 through = light_detail::aim_point(opening.point, t1, t2, opening.spread, u4, within);
-        sample.direction = glm::normalize(through - position);
+        sample.direction = light_detail::aimed_direction(position, (*openings_)[k], u4, within);
       }
       const float cosine = glm::dot(sample.direction, normal);
       const float density = cosine > 0.0f ? (1.0f - share_) * cosine * std::numbers::inv_pi_v<float> +
@@ -271,23 +289,10 @@ class TriangleEmitter {
   float area() const noexcept { return area_; }
 
  private:
-  /// Solid-angle density of the aimed directions at `direction` from `position`: for each
-  /// opening, its kernel's density where the direction's line crosses the disc across the line to
-  /// the opening, times the distance squared over the cosine cubed (the disc's area seen as
-  /// solid angle from the point), averaged over the openings.
+  /// Solid-angle density of the aimed directions at `direction` from `position`, averaged over the openings.
   float aimed_direction_density(const glm::vec3& position, const glm::vec3& direction) const noexcept {
     float density = 0.0f;
-    for (const AimPoint& opening : *openings_) {
-      const glm::vec3 axis = opening.point - position;
-      const float distance2 = glm::dot(axis, axis);
-      if (!(distance2 > 0.0f)) continue;
-      const float along = glm::dot(direction, axis);  // distance x cos of the angle to the axis
-      if (!(along > 0.0f)) continue;
-      const float cosine = along / std::sqrt(distance2);
-      const glm::vec3 crossing = position + direction * (distance2 / along);
-      const glm::vec3 offset = crossing - opening.point;
-      density += light_detail::aim_kernel(glm::dot(offset, offset), opening.spread) * distance2 / (cosine * cosine * cosine);
-    }
+    for (const AimPoint& opening : *openings_) density += light_detail::aimed_direction_density(position, direction, opening);
     return density / float(openings_->size());
   }
 
@@ -392,6 +397,13 @@ struct Portals {
   /// also aimed through these, so its light reaches what no view point shows lit (a window's
   /// sill, the floor behind the furniture) and bounces into the room.
   std::vector<AimPoint> framed_openings{};
+  /// Those of framed_openings that the view's own points found (not the surfaces they see), if
+  /// the view is enclosed (find_portals: few of its sky rays leave): where the view's room opens
+  /// to the outside. Heavy light particles that bounce outside are aimed back in through them
+  /// (BounceOpenings).
+  std::vector<AimPoint> view_openings{};
+  /// The unit directions, towards the sky, of the rays that passed view_openings (parallel to it).
+  std::vector<glm::vec3> view_opening_directions{};
   /// For each instance of the scene, by its index (empty for most): the framed openings through
   /// which rays from the view's points reach its emission, as a sky panel or an emissive dome
   /// outside a window, if they reach it through openings at least half the time (else it lights
@@ -410,6 +422,118 @@ struct Portals {
     return false;
   }
 };
+
+/// Of a diffuse bounce aimed back in through the view's openings (BounceOpenings), the share of
+/// directions aimed: a half, so the weight of the other directions at most doubles (they light
+/// the outside, which the view rarely sees), while a bounce into the room is drawn about as
+/// often as a particle aimed there from the light.
+inline constexpr float bounce_aim_share = 0.5f;
+/// A bounce is not aimed through an opening whose escape ray (the view's ray that found it,
+/// towards the sky) lies within 60 degrees of the line from the bounce to it: from there a
+/// particle through the opening would leave the way that ray left rather than enter (the forest
+/// floor below a gap in the canopy, the room's floor below its window), while the ground just
+/// outside a window, which sees the window steeply above it, is aimed.
+inline constexpr float bounce_escape_cosine = 0.5f;
+
+/// The view's openings as a light particle's diffuse bounce sees them from outside. A share of
+/// the bounce's directions is aimed back in through those in front of it (bounce_escape_cosine
+/// says which), and every direction is weighed by the mixture's density, so the estimate keeps
+/// its expectation. Without it, the light that the ground outside reflects into a room reached
+/// it only when a cosine-distributed bounce happened to pass the window: rarely, and heavily
+/// when a particle that missed every aimed target (so carrying the light of a large part of the
+/// emitting disc) did so; one such walk, dissected in the window room, left six VPLs a hundred
+/// times brighter than the room's others and made the frame twice as bright as it should be.
+/// The sampler aims only the first bounce of such heavy particles (LightSet::heavy_flux): a
+/// light particle landed where light was aimed, in the room or on what the view sees, and a
+/// heavy one that has bounced once more may be inside, where aiming out would waste its bounces.
+class BounceOpenings {
+ public:
+  /// No openings: every bounce cosine-distributed.
+  BounceOpenings() = default;
+  /// Bounces aimed through `openings` (Portals::view_openings), whose escape rays' directions
+  /// `outward` (Portals::view_opening_directions, parallel) give; throws std::invalid_argument
+  /// if their sizes differ.
+  BounceOpenings(std::vector<AimPoint> openings, std::vector<glm::vec3> outward)
+      : openings_(std::move(openings)), outward_(std::move(outward)) {
+    if (openings_.size() != outward_.size())
+      throw std::invalid_argument("BounceOpenings: " + std::to_string(openings_.size()) + " openings but " +
+                                  std::to_string(outward_.size()) + " outward directions");
+  }
+  /// True if no bounce is aimed.
+  bool empty() const noexcept { return openings_.empty(); }
+
+  /// A diffuse bounce's direction, and the weight it carries on top of the cosine lobe's.
+  struct Bounce {
+    glm::vec3 direction{0.0f};  ///< Unit direction, above the geometric surface.
+    float weight = 1.0f;        ///< The cosine lobe's density over the mixture's: 1 where nothing is aimed; 0 for a wasted sample.
+  };
+  /// The continuation from `position` on a surface with geometric normal `geometric` (on the
+  /// side the particle came from) and shading normal `normal` (its cosine lobe's axis, on the
+  /// same side): cosine-distributed from (u1, u2), a direction that falls under the surface
+  /// mirrored back above it (a bumped normal's); where `aim` is set and openings are in front,
+  /// u1 first picks the aimed share, then the opening and, with u2, the point of its disc to pass.
+  Bounce sample(const glm::vec3& position, const glm::vec3& normal, const glm::vec3& geometric, float u1, float u2,
+                bool aim) const noexcept {
+    std::size_t seen = 0;
+    if (aim)
+      for (std::size_t k = 0; k < openings_.size(); ++k) seen += aims_through(k, position, geometric);
+    if (seen == 0) return {cosine_direction(normal, geometric, u1, u2), 1.0f};
+    const auto [aimed, u] = light_detail::split(u1, bounce_aim_share);
+    glm::vec3 direction;
+    if (aimed) {
+      const std::size_t pick = std::min(std::size_t(u * float(seen)), seen - 1);
+      const float within = std::min(u * float(seen) - float(pick), 0x1.fffffep-1f);
+      std::size_t k = 0;
+      for (std::size_t found = 0;; ++k)
+        if (aims_through(k, position, geometric) && found++ == pick) break;
+      direction = light_detail::aimed_direction(position, openings_[k], u2, within);
+      if (!(glm::dot(direction, geometric) > 0.0f)) return {direction, 0.0f};
+    } else {
+      direction = cosine_direction(normal, geometric, u, u2);
+    }
+    // The cosine lobe's density, folded as cosine_direction folds it.
+    const glm::vec3 folded = direction - 2.0f * glm::dot(direction, geometric) * geometric;
+    const float cosine_density =
+        (std::max(0.0f, glm::dot(normal, direction)) + std::max(0.0f, glm::dot(normal, folded))) * std::numbers::inv_pi_v<float>;
+    float aimed_density = 0.0f;
+    for (std::size_t k = 0; k < openings_.size(); ++k)
+      if (aims_through(k, position, geometric)) aimed_density += light_detail::aimed_direction_density(position, direction, openings_[k]);
+    const float mixture = (1.0f - bounce_aim_share) * cosine_density + bounce_aim_share * aimed_density / float(seen);
+    const float weight = cosine_density / mixture;
+    return {direction, mixture > 0.0f && std::isfinite(weight) ? weight : 0.0f};
+  }
+
+ private:
+  /// Whether a bounce at `position` (geometric normal `geometric`) aims through opening `k`: in
+  /// front of its surface, and not along the opening's escape ray (bounce_escape_cosine).
+  bool aims_through(std::size_t k, const glm::vec3& position, const glm::vec3& geometric) const noexcept {
+    const glm::vec3 to_opening = openings_[k].point - position;
+    return glm::dot(to_opening, geometric) > 0.0f &&
+           glm::dot(to_opening, outward_[k]) < bounce_escape_cosine * glm::length(to_opening);
+  }
+  /// A cosine-distributed direction about `normal` from (u1, u2), mirrored above the geometric surface if under it.
+  static glm::vec3 cosine_direction(const glm::vec3& normal, const glm::vec3& geometric, float u1, float u2) noexcept {
+    const glm::vec3 direction = sample_cosine_hemisphere(normal, u1, u2);
+    const float below = glm::dot(direction, geometric);
+    return below <= 0.0f ? glm::normalize(direction - 2.0f * below * geometric) : direction;
+  }
+
+  std::vector<AimPoint> openings_;
+  std::vector<glm::vec3> outward_;
+};
+
+/// A particle of a light outside the view's openings (the sun, the sky, an emitter beyond a
+/// window) is heavy when it carries at least this many times the flux of the light's median
+/// particle (the aimed ones, 70% of them at the default share, set the median): it landed
+/// where little was aimed, on the ground far outside, and its bounce into the room is the
+/// rare heavy event BounceOpenings removes. 4: in the window and blinds rooms, with and without
+/// sky, the particles of the sun, the sky and the sky panel fall in two groups with a gap
+/// between about 2.5x and 9x the median: the aimed, about the median, and the rest, 9-650x it
+/// (33-45% of all are heavy at 4x).
+inline constexpr float heavy_particle_factor = 4.0f;
+/// Particles drawn (no ray traced) to find a light's median flux: 64 place the median of the
+/// 70% aimed among the rest to a few percent of the threshold's scale.
+inline constexpr int median_flux_particles = 64;
 
 /// Half-angle of the cone about an escape direction within which aimed sky particles travel:
 /// 0.1 rad (6 degrees), about the angle between neighbouring escape rays of one view point, and
@@ -670,6 +794,8 @@ class LightSet {
   /// every vertex; they place the lights at infinity. With `portals`, the particles of
   /// directional lights and of the environment are partly aimed through them.
   LightSet(const Scene& scene, const Bounds& bounds, const Portals* portals = nullptr) {
+    const bool aimed = portals && portals->any();
+    if (aimed) bounce_openings_ = BounceOpenings(portals->view_openings, portals->view_opening_directions);
     for (std::size_t instance_index = 0; instance_index < scene.instances.size(); ++instance_index) {
       const Instance& instance = scene.instances[instance_index];
       if (instance.mesh < 0 || std::size_t(instance.mesh) >= scene.meshes.size())
@@ -684,16 +810,30 @@ class LightSet {
       if (portals && portals->share > 0.0f && instance_index < portals->emitter_openings.size() &&
           !portals->emitter_openings[instance_index].empty())
         openings = std::make_shared<const std::vector<AimPoint>>(portals->emitter_openings[instance_index]);
+      std::vector<TriangleEmitter> triangles;
       for (const glm::uvec3& t : mesh.triangles) {
         if (t.x >= mesh.positions.size() || t.y >= mesh.positions.size() || t.z >= mesh.positions.size())
           throw std::invalid_argument("LightSet: mesh '" + mesh.name + "' indexes a vertex it lacks");
         const auto world = [&](unsigned i) { return glm::vec3(instance.transform * glm::vec4(mesh.positions[i], 1.0f)); };
         TriangleEmitter emitter(world(t.x), world(t.y), world(t.z), material.emission, material.double_sided, openings,
                                 portals ? portals->share : 0.0f);
-        if (emitter.area() > 0.0f) add(std::move(emitter));
+        if (emitter.area() > 0.0f) triangles.push_back(std::move(emitter));
+      }
+      // An instance outside the view's openings: its triangles' heavy fluxes from its largest
+      // one's median, in proportion to their areas (a particle's flux is), so a dome of
+      // thousands of triangles draws its 64 particles once.
+      float heavy_per_area = std::numeric_limits<float>::infinity();
+      if (openings && !bounce_openings_.empty() && !triangles.empty()) {
+        const auto largest = std::max_element(triangles.begin(), triangles.end(), [](const TriangleEmitter& a, const TriangleEmitter& b) {
+          return a.area() < b.area();
+        });
+        heavy_per_area = heavy_particle_factor * median_flux(*largest) / largest->area();
+      }
+      for (TriangleEmitter& triangle : triangles) {
+        const float heavy = heavy_per_area * triangle.area();
+        add_with_heavy(std::move(triangle), heavy);
       }
     }
-    const bool aimed = portals && portals->any();
     for (std::size_t index = 0; index < scene.lights.size(); ++index) {
       const PunctualLight& light = scene.lights[index];
       const std::string what = "LightSet: light '" + light.name + "'";
@@ -709,7 +849,8 @@ class LightSet {
           case PunctualKind::directional:
             if (aimed && index < portals->sunlit.size())
               add(DirectionalEmitter(light.direction, radiant, bounds, portals->sunlit[index], portals->share,
-                                     portals->framed_openings));
+                                     portals->framed_openings),
+                  true);
             else
               add(DirectionalEmitter(light.direction, radiant, bounds));
             break;
@@ -721,23 +862,27 @@ class LightSet {
     if (scene.environment && scene.environment->emits()) {
       if (aimed && !portals->sky_points.empty())
         add(EnvironmentLight(scene.environment, bounds, portals->sky_points, portals->sky_directions, portals->share,
-                             portals->openings));
+                             portals->openings),
+            true);
       else
         add(EnvironmentLight(scene.environment, bounds));
     }
   }
 
-  /// Adds an emitter (user-defined or built-in); emitters without power are ignored.
-  void add(Emitter emitter) {
-    const glm::vec3 power = emitter.power();
-    light_detail::check_emission(power, "LightSet: emitter power");
-    const float weight = (power.x + power.y + power.z) / 3.0f;
-    if (!(weight > 0.0f)) return;
-    emitters_.push_back(std::move(emitter));
-    weights_.push_back(weight);
-    total_weight_ += double(weight);
-    cumulative_.push_back(total_weight_);
+  /// Adds an emitter (user-defined or built-in); emitters without power are ignored. If it is
+  /// `outside` the view's openings (a light they were found for), its heavy particles' bounces
+  /// are aimed back in through them (heavy_flux).
+  void add(Emitter emitter, bool outside = false) {
+    const float heavy = outside && !bounce_openings_.empty() ? heavy_particle_factor * median_flux(emitter)
+                                                             : std::numeric_limits<float>::infinity();
+    add_with_heavy(std::move(emitter), heavy);
   }
+  /// Where the particles' diffuse bounces outside the view's openings are aimed back in through them.
+  const BounceOpenings& bounce_openings() const noexcept { return bounce_openings_; }
+  /// The flux (largest component, as sample_emission gives it) from which a particle of emitter
+  /// `i` is heavy and its bounces are aimed back in through the view's openings: infinite for
+  /// an emitter inside or where there are no openings.
+  float heavy_flux(std::size_t i) const noexcept { return heavy_[i]; }
   /// Number of emitters.
   std::size_t size() const noexcept { return emitters_.size(); }
   /// True if nothing emits.
@@ -775,6 +920,38 @@ class LightSet {
 
  private:
   std::vector<Emitter> emitters_;
+  /// The median of the largest flux component over median_flux_particles of `emitter`'s
+  /// particles (an unscrambled Halton sequence: the same for every frame), those that carry any.
+  static float median_flux(const Emitter& emitter) {
+    const Halton halton;
+    std::vector<float> fluxes;
+    for (int i = 0; i < median_flux_particles; ++i) {
+      const auto k = std::uint64_t(i);
+      const float flux = light_detail::largest_component(
+          emitter.sample_emission(halton.sample(0, k), halton.sample(1, k), halton.sample(2, k), halton.sample(3, k)).flux);
+      if (flux > 0.0f && std::isfinite(flux)) fluxes.push_back(flux);
+    }
+    if (fluxes.empty()) return std::numeric_limits<float>::infinity();
+    const auto middle = fluxes.begin() + std::ptrdiff_t(fluxes.size() / 2);
+    std::nth_element(fluxes.begin(), middle, fluxes.end());
+    return *middle;
+  }
+
+  /// add, with the flux from which its particles are heavy (heavy_flux) given.
+  void add_with_heavy(Emitter emitter, float heavy) {
+    const glm::vec3 power = emitter.power();
+    light_detail::check_emission(power, "LightSet: emitter power");
+    const float weight = (power.x + power.y + power.z) / 3.0f;
+    if (!(weight > 0.0f)) return;
+    heavy_.push_back(heavy);
+    emitters_.push_back(std::move(emitter));
+    weights_.push_back(weight);
+    total_weight_ += double(weight);
+    cumulative_.push_back(total_weight_);
+  }
+
+  std::vector<float> heavy_;
+  BounceOpenings bounce_openings_;
   std::vector<float> weights_;
   std::vector<double> cumulative_;
   double total_weight_ = 0.0;

@@ -25,8 +25,11 @@
 /// VPLs of intensity flux / pi), so direct light comes out of the same sum. At each
 /// diffuse hit the particle leaves a surface VPL of intensity flux x albedo / pi; it continues
 /// with probability q_d = max(albedo) (diffusely, flux x albedo / q_d), or through the mirror /
-/// glass lobes with probability max(weight) (flux x weight / that), or stops. Every weight is an
-/// unbiased estimate, so each set alone sums (in expectation) to the full light transport, and
+/// glass lobes with probability max(weight) (flux x weight / that), or stops. A heavy particle
+/// of a light outside the view's openings (one that landed on the ground far outside a window:
+/// LightSet::heavy_flux) has a share of its first bounce's diffuse continuations aimed back in
+/// through them, each weighed by the cosine lobe's density over the mixture's (BounceOpenings,
+/// lights.hpp). Every weight is an unbiased estimate, so each set alone sums (in expectation) to the full light transport, and
 /// any average of sets does too; that is what lets interleaving give each pixel one set. The
 /// 1/d^2 clamp lives in connect(); nothing is clamped here. Walks end after `max_bounces`
 /// scattering events (a bias: light reflected more often than that is missing, a fraction
@@ -218,8 +221,8 @@ class QmcVplSampler {
     const float scale = 1.0f / (choice.probability * float(n));
     Vpl light_vpl = emission.vpl;
     light_vpl.intensity *= scale;
-    walk(scene, geometry, tracer, shader, brdf, settings, emission.origin, emission.direction, emission.flux * scale, u, j,
-         bounced, bounced_origins);
+    walk(scene, geometry, tracer, shader, brdf, settings, lights.bounce_openings(), lights.heavy_flux(choice.index) * scale,
+         emission.origin, emission.direction, emission.flux * scale, u, j, bounced, bounced_origins);
     if (!emission.leaves_vpl || light_vpl.kind != VplKind::surface) return std::nullopt;
     return light_vpl;
   }
@@ -245,10 +248,13 @@ class QmcVplSampler {
     return double(on_lights + int(bounced.size())) / pilot_walks;
   }
 
-  /// Follows one particle from `origin` along `direction`, appending the VPLs it leaves.
+  /// Follows one particle from `origin` along `direction`, appending the VPLs it leaves; if it
+  /// reaches its first hit with a flux of at least `heavy` (LightSet::heavy_flux), that
+  /// bounce's diffuse continuation is partly aimed back in through the view's `openings`.
   template <class Tracer, class Shader, class Brdf, class Sample>
   static void walk(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer, const Shader& shader,
-                   const Brdf& brdf, const VplSettings& settings, glm::vec3 origin, glm::vec3 direction,
+                   const Brdf& brdf, const VplSettings& settings, const BounceOpenings& openings, float heavy,
+                   glm::vec3 origin, glm::vec3 direction,
                    glm::vec3 flux, const Sample& u, int walk_index, std::vector<Vpl>& vpls,
                    std::vector<VplOrigin>& origins) {
     constexpr int first_bounce_dimension = 5;
@@ -280,26 +286,34 @@ class QmcVplSampler {
       const glm::vec3 geometric = surface.geometric_normal[0];
       ++bounce;
       const int dimension = first_bounce_dimension + 3 * (bounce - 1);
-      // The diffuse continuation: cosine-distributed around the shading normal.
+      // The diffuse continuation: cosine-distributed around the shading normal (a bumped
+      // normal's sample that falls under the surface mirrored back above it), or, at a heavy
+      // particle's first hit (outside the room: where particles enter it, light was aimed, so
+      // they are lighter), partly aimed back in through the view's openings;
+      // `bounce_sample.weight` is the cosine lobe's density over the density it was drawn by (1
+      // where nothing is aimed).
       glm::vec3 n = parameters.normal[0];
       if (!(glm::dot(n, geometric) > 0.0f)) n = geometric;
-      glm::vec3 diffuse_direction = sample_cosine_hemisphere(n, u(dimension + 1), u(dimension + 2));
-      // A bumped normal can send the sample under the surface; mirror it back above.
-      const float below = glm::dot(diffuse_direction, geometric);
-      if (below <= 0.0f) diffuse_direction = glm::normalize(diffuse_direction - 2.0f * below * geometric);
+      const BounceOpenings::Bounce bounce_sample = openings.sample(position, n, geometric, u(dimension + 1), u(dimension + 2),
+                                                                       bounce == 1 && light_detail::largest_component(flux) >= heavy);
+      const glm::vec3 diffuse_direction = bounce_sample.direction;
       // What the hit reflects diffusely: its albedo, plus a wide glossy lobe's reflectance
       // towards the diffuse continuation (f x cos / pdf with pdf = cos / pi, an unbiased estimate
-      // of the lobe's directional albedo). Written as !(>) so that a NaN exponent counts as sharp.
+      // of the lobe's directional albedo, weighed by the bounce's weight where the direction was
+      // aimed). Written as !(>) so that a NaN exponent counts as sharp.
       glm::vec3 albedo = glm::clamp(parameters.albedo[0], glm::vec3(0.0f), glm::vec3(1.0f));
+      glm::vec3 reflected = albedo;
       const float cosine = glm::dot(n, diffuse_direction);
       if (!(parameters.shininess[0] > wide_lobe_shininess) && light_detail::largest_component(parameters.glossy[0]) > 0.0f &&
-          cosine > 0.0f)
+          cosine > 0.0f) {
         albedo = glm::clamp(brdf.evaluate(surface, parameters, vec3<1>(diffuse_direction), one)[0] * (std::numbers::pi_v<float> / cosine),
                             glm::vec3(0.0f), glm::vec3(1.0f));
-      if (light_detail::largest_component(albedo) > 0.0f) {
+        reflected = albedo * bounce_sample.weight;
+      }
+      if (light_detail::largest_component(reflected) > 0.0f) {
         vpls.push_back({.position = position,
                         .normal = geometric,
-                        .intensity = flux * albedo * inv_pi,
+                        .intensity = flux * reflected * inv_pi,
                         .kind = VplKind::surface});
         origins.push_back({walk_index, bounce});
       }
@@ -318,7 +332,7 @@ class QmcVplSampler {
       }
       const float choice = u(dimension);
       if (choice < q_diffuse) {
-        flux *= albedo / q_diffuse;
+        flux *= albedo * (bounce_sample.weight / q_diffuse);
         direction = diffuse_direction;
       } else if (choice < q_diffuse + q_reflect) {
         flux *= reflection.weight[0] / q_reflect;
