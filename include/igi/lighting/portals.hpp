@@ -399,7 +399,7 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
   const std::vector<std::optional<glm::vec3>> kept_openings = portal_detail::in_parallel(kept_escapes.size(), [&](std::size_t i) {
     return portal_detail::opening_point(scene, geometry, tracer, shader, kept_escapes[i].start, kept_escapes[i].direction, offset);
   });
-  std::vector<std::size_t> view_framed;  // which of the framed openings the view's own points found
+  std::vector<std::size_t> view_framed;  // which of the framed openings the view's own points found, if enclosed
   for (std::size_t i = 0; i < kept_escapes.size(); ++i) {
     const Escape& escape = kept_escapes[i];
     if (sky) {
@@ -409,7 +409,7 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
     const std::optional<glm::vec3>& opening = kept_openings[i];
     portals.openings.push_back({.point = opening.value_or(escape.start)});
     if (opening) {
-      if (escape.from_view) {
+      if (escape.from_view && enclosed) {
         view_framed.push_back(portals.framed_openings.size());
         portals.view_opening_directions.push_back(escape.direction);
       }
@@ -418,11 +418,7 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
   }
   portal_detail::set_spreads(portals.openings, offset, alone);
   portal_detail::set_spreads(portals.framed_openings, offset, alone);
-  if (enclosed) {
-    for (const std::size_t i : view_framed) portals.view_openings.push_back(portals.framed_openings[i]);
-  } else {
-    portals.view_opening_directions.clear();
-  }
+  for (const std::size_t i : view_framed) portals.view_openings.push_back(portals.framed_openings[i]);
   // An emitter's openings: framed well before the emitter (a window 3 m away, the panel 9 m: a
   // luminaire on a ceiling has its frame, the ceiling, where it is). Only an emitter the view's
   // points see mostly through openings is aimed: one they see in the open (a luminaire in the
