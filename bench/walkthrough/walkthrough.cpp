@@ -151,6 +151,7 @@ struct Method {
   int vpls = RenderSettings{}.vpls_per_pixel;          ///< --vpls (IGI only).
   float roulette = RenderSettings{}.shadow_roulette;   ///< --roulette (IGI only).
   int compensate = RenderSettings{}.compensation_rays; ///< --compensate (IGI only).
+  int hold = RenderSettings{}.held_vpl_frames;         ///< --hold-vpls (IGI only).
 };
 
 /// The methods measured: igi-render's and igi-view's defaults (temporal reuse over 32 frames,
@@ -171,7 +172,7 @@ const std::vector<Method> all_methods = {
     {"default 1 VPL", "qmc", default_temporal_frames, false, RenderSettings{}.portal_share, 1}};
 
 /// A method given by its settings: "custom" and then any of vpls=M, sampler=qmc|importance,
-/// temporal=FRAMES, portal-share=SHARE, roulette=FRACTION and compensate=RAYS, separated by
+/// temporal=FRAMES, portal-share=SHARE, roulette=FRACTION, compensate=RAYS and hold=FRAMES, separated by
 /// spaces; unnamed settings are the default method's. Throws UsageError naming a bad one.
 Method custom_method(const std::string& spec) {
   Method method = all_methods.front();
@@ -190,6 +191,7 @@ Method custom_method(const std::string& spec) {
       if (key == "portal-share") method.portal_share = std::stof(value, &used);
       if (key == "roulette") method.roulette = std::stof(value, &used);
       if (key == "compensate") method.compensate = std::stoi(value, &used);
+      if (key == "hold") method.hold = std::stoi(value, &used);
     } catch (const std::exception&) {
       used = 0;  // not a number
     }
@@ -200,7 +202,7 @@ Method custom_method(const std::string& spec) {
     if (used == 0 || used != value.size())
       throw UsageError("--methods: '" + word + "' in '" + spec +
                        "' is not one of vpls=M, sampler=qmc|importance, temporal=FRAMES, portal-share=SHARE, "
-                       "roulette=FRACTION, compensate=RAYS");
+                       "roulette=FRACTION, compensate=RAYS, hold=FRAMES");
   }
   return method;
 }
@@ -426,6 +428,7 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
       settings.vpls_per_pixel = method.vpls;
       settings.shadow_roulette = method.roulette;
       settings.compensation_rays = method.compensate;
+      settings.held_vpl_frames = method.hold;
       sampler.emplace(method.vpl_sampler);
       renderer.emplace(scene, settings, surface, brdf, *sampler, filter);
     }
@@ -487,7 +490,7 @@ int main(int argc, char** argv) {
   command_line.add("--walks", options.walks, "walks to measure, comma-separated (default: all)");
   command_line.add("--methods", options.methods,
                    "methods to measure, comma-separated (default: all); 'custom vpls=4 roulette=0.5' is the default "
-                   "method with the settings named (vpls, sampler, temporal, portal-share, roulette, compensate)");
+                   "method with the settings named (vpls, sampler, temporal, portal-share, roulette, compensate, hold)");
   command_line.add("--size", options.size, "image size");
   command_line.add("--frames", options.frames, "frames per walk").range(2, 100000);
   command_line.add("--fps", options.fps, "frames per second along the camera paths");

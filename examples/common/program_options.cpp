@@ -145,6 +145,11 @@ void add_temporal_option(CommandLine& command_line, std::optional<int>& temporal
                     "with temporal reuse, trace every shadow ray towards the point, spot and directional lights in "
                     "every frame (default: a first hit that shows the surface the previous frame showed around it "
                     "takes that frame's answers where they agree, and traces them every 8th frame)");
+  command_line.add("--hold-vpls", settings.held_vpl_frames,
+                   "with temporal reuse, while the camera moves through an unchanged scene each frame keeps the "
+                   "previous frame's VPLs, for up to this many frames in a row, so the image's brightness stays "
+                   "steady; a still view or a change in the scene draws new ones (0: new VPLs every frame)")
+      .range(0, max_held_vpl_frames);
 }
 
 void add_filter_options(CommandLine& command_line, std::string& filter, RenderSettings& settings) {

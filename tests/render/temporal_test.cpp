@@ -369,6 +369,63 @@ TEST_CASE("temporal reuse: a moving camera keeps the history of what it still se
   CHECK(wrongly_kept == 0);
 }
 
+TEST_CASE("temporal reuse: a camera moving through an unchanged scene keeps its VPLs until it stops or the scene changes",
+          "[render][temporal]") {
+  Scene scene = cornell_box();
+  RenderSettings s = small_settings();
+  s.temporal_frames = 32;
+  s.held_vpl_frames = 3;
+  const Camera start = scene.cameras.front();
+  TemporalRenderer<> sequence(scene, s);
+  // Camera offsets frame by frame, and whether each frame keeps the VPLs of the one before: the
+  // first frame has none; a moved camera keeps them, at most 3 frames in a row (frame 7 draws);
+  // a still view (frame 3) and a moved instance (frame 9) draw new ones, and so do the moving
+  // frames after the change until the histories (TemporalReuse::moving_frames) hold only frames
+  // of the changed scene.
+  constexpr std::uint32_t frames = 20;
+  float offsets[frames];
+  bool kept[frames];
+  for (std::uint32_t index = 0; index < frames; ++index) {
+    offsets[index] = 0.001f * float(index < 3 ? index : index - 1);
+    kept[index] = index != 0 && index != 3 && index != 7 && !(index >= 9 && index < 9 + TemporalReuse::moving_frames);
+  }
+  REQUIRE(kept[9 + TemporalReuse::moving_frames]);
+  for (std::uint32_t index = 0; index < frames; ++index) {
+    INFO("frame " << index);
+    if (index == 9)
+      sequence.renderer.set_instance_transform(largebox_instance,
+                                               glm::translate(glm::mat4(1.0f), glm::vec3(-0.05f, 0.0f, 0.0f)) *
+                                                   scene.instances[std::size_t(largebox_instance)].transform);
+    const Frame frame = sequence.renderer.render(moved(start, offsets[index]), index);
+    CHECK(frame.statistics.vpls_kept == kept[index]);
+  }
+
+  // What a kept frame shows is the previous frame's VPLs seen from the new view: in the Cornell
+  // box (no openings, so the VPLs do not depend on the view) the same as drawing frame 0's again,
+  // and unlike drawing frame 1's.
+  Scene held_scene = cornell_box(), same_scene = cornell_box(), new_scene = cornell_box();
+  RenderSettings fresh_settings = s;
+  fresh_settings.held_vpl_frames = 0;
+  TemporalRenderer<> held(held_scene, s), same(same_scene, fresh_settings), fresh(new_scene, fresh_settings);
+  held.renderer.render(start, 0);
+  same.renderer.render(start, 0);
+  fresh.renderer.render(start, 0);
+  const Camera next = moved(start, 0.001f);
+  const Frame held_frame = held.renderer.render(next, 1), same_frame = same.renderer.render(next, 0),
+              fresh_frame = fresh.renderer.render(next, 1);
+  const auto difference = [](const Frame& a, const Frame& b) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < a.hdr.pixels.size(); ++i) sum += double(glm::length(a.hdr.pixels[i] - b.hdr.pixels[i]));
+    return sum;
+  };
+  INFO("summed difference from frame 0's VPLs " << difference(held_frame, same_frame) << ", from frame 1's "
+       << difference(held_frame, fresh_frame));
+  REQUIRE(difference(held_frame, fresh_frame) > 0.0);
+  // Only the frame index differs between the first two: it staggers which pixels trace their
+  // shadow rays afresh, which changes nothing where the reused answers agree.
+  CHECK(difference(held_frame, same_frame) < 1e-3 * difference(held_frame, fresh_frame));
+}
+
 TEST_CASE("temporal reuse: every backend, packet width and thread count renders the same sequence", "[render][temporal][determinism]") {
   Scene scene = cornell_box();
   RenderSettings s = small_settings();
@@ -390,8 +447,11 @@ TEST_CASE("temporal reuse: every backend, packet width and thread count renders 
                                     std::pair(sequence(s, static_cast<ReferenceBackend<8>*>(nullptr)), "reference 8")}) {
     INFO(what);
     // As the determinism test of single frames: hit points differ between backends in the last
-    // float bits, so a pixel may flip where a shadow ray grazes an edge (and its history with it).
-    CHECK(differing_pixels(reference, other, 1e-4f) <= reference.hdr.pixels.size() / 100);
+    // float bits, so a pixel may flip where a shadow ray grazes an edge (and its history with it),
+    // and the discontinuity filter spreads each flip over its S x S window. Two such flips are
+    // allowed (with VPLs held from frame 1 on, the reference backend measured one: 11 pixels at
+    // frame 3, 14 at frame 4).
+    CHECK(differing_pixels(reference, other, 1e-4f) <= std::size_t(2 * s.interleave * s.interleave));
     CHECK(mean_radiance(other) == Approx(mean_radiance(reference)).epsilon(1e-3));
   }
 }
@@ -402,6 +462,11 @@ TEST_CASE("temporal reuse: bad settings are refused with their name", "[render][
   CHECK_THROWS_WITH(validate(s), Catch::Contains("temporal frames -1"));
   s.temporal_frames = max_temporal_frames + 1;
   CHECK_THROWS_WITH(validate(s), Catch::Contains("temporal frames"));
+  s.temporal_frames = 8;
+  s.held_vpl_frames = -1;
+  CHECK_THROWS_WITH(validate(s), Catch::Contains("held VPL frames -1"));
+  s.held_vpl_frames = max_held_vpl_frames + 1;
+  CHECK_THROWS_WITH(validate(s), Catch::Contains("held VPL frames"));
   CHECK_THROWS_AS(TemporalReuse(0), SettingsError);
   // A frame whose layers or image do not have the size begin() was given is refused, not read past.
   TemporalReuse temporal(4);

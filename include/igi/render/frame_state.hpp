@@ -49,6 +49,9 @@ struct FrameOptions {
   bool profile = false;      ///< Time each pipeline stage into the tiles' results.
   bool keep_layers = false;  ///< Tiles return their pixels' PixelLayers (what temporal reuse reads).
   float clamp_scale = 1.0f;  ///< Factor on the resolved clamp distance (temporal reuse shrinks it while the view stays still).
+  /// Keep the previous frame's VPLs instead of drawing new ones (the camera moves through an
+  /// unchanged scene: RenderSettings::held_vpl_frames); the first frame draws them anyway.
+  bool keep_vpls = false;
   /// Where in its cell each sub-sample's primary ray passes (subsample_offset; the centre by
   /// default; temporal reuse moves it from one still frame to the next, so they cover the pixel).
   glm::vec2 pixel_jitter{0.5f};
@@ -73,6 +76,7 @@ struct FrameState {
   SeeThroughMeshes see_through;                ///< The scene's thin-walled glass and alpha-blended meshes, which shadow rays pass attenuated.
   std::optional<PinholeProjection> projection; ///< Primary-ray generator; empty before prepare.
   VplSets vpls;                                ///< This frame's VPL sets (S^2 of them).
+  bool vpls_kept = false;                      ///< Whether vpls are the previous frame's (FrameOptions::keep_vpls).
   RenderSettings settings;                     ///< Resolution, S, M, N, ...
   float clamp_distance = 0.0f;                 ///< Resolved minimum VPL distance.
   float ray_epsilon = 1e-4f;                   ///< ray_offset of the scene: how far rays start off surfaces.
@@ -95,20 +99,22 @@ struct FrameState {
   /// with `tone_mapping`: VPLs from `sampler`, whose walks shade their hits with the frame's own
   /// `surface` and `brdf` shaders, spread for glossy receivers by assign_vpl_radii, and clamp and ray offsets from the scene's world `bounds`
   /// (SceneBounds keeps them without walking every vertex each frame), the clamp times `clamp_scale`.
+  /// With `keep_vpls` the VPLs of the frame prepared before stay (drawn anew if there are none).
   template <class B, class Surface, class Brdf, class Sampler>
     requires VplSampler<Sampler, B, Surface, Brdf>
   void prepare(const Scene& scene, const Bounds& bounds, const B& backend, const Surface& surface, const Brdf& brdf,
                const Sampler& sampler, const RenderSettings& frame_settings, const Camera& camera, std::uint32_t index,
-               const ToneMapping& frame_tone_mapping, float clamp_scale = 1.0f) {
+               const ToneMapping& frame_tone_mapping, float clamp_scale = 1.0f, bool keep_vpls = false) {
     const PinholeProjection frame_projection(camera, frame_settings.width, frame_settings.height);
     const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
     const float frame_clamp = resolve_clamp(frame_settings, diagonal) * clamp_scale;
-    {
+    vpls_kept = keep_vpls && vpls.sets.size() == std::size_t(frame_settings.interleave * frame_settings.interleave);
+    if (!vpls_kept) {
       const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
       const VplView view{.projection = frame_projection, .clamp_distance = frame_clamp};
       vpls = sampler.generate(scene, backend, surface, brdf, vpl_settings_for(frame_settings, index, bounds, &view));
+      assign_vpl_radii(vpls);
     }
-    assign_vpl_radii(vpls);
     cutouts = CutoutMeshes(scene);
     see_through = SeeThroughMeshes(scene);
     this->scene = &scene;

@@ -27,6 +27,7 @@ struct FrameStatistics {
   RayCounts rays;                 ///< Rays traced.
   int tiles = 0;                  ///< Tiles rendered.
   int vpls = 0;                   ///< VPLs in all sets.
+  bool vpls_kept = false;         ///< Whether the frame kept the previous frame's VPLs (RenderSettings::held_vpl_frames).
   LuminanceStatistics luminance;  ///< Combined tile statistics.
   StageTimes stages;              ///< CPU time per pipeline stage, summed over tiles (with Renderer::set_profiling).
   double commit_milliseconds = 0.0;  ///< Part of vpl_milliseconds: scene changes committed to the backend (BVH updates).
@@ -117,6 +118,12 @@ class Renderer {
       options.pixel_jitter = request.pixel_jitter;
       options.texture_cone_scale = request.texture_cone_scale;
       options.shadow_history = &*temporal_;
+      // A camera that moves through an unchanged scene keeps its VPLs (RenderSettings::held_vpl_frames),
+      // once the moving histories hold no frame from before the scene's last change: until then
+      // each frame's new VPLs add an independent sample of the changed light to the clamped histories.
+      frames_since_change_ = scene_changed_ ? 0 : frames_since_change_ + 1;
+      options.keep_vpls = frames_since_change_ >= TemporalReuse::moving_frames && temporal_->still_frames() == 0 &&
+                          held_vpl_frames_ < settings.held_vpl_frames;
     }
     if (temporal_ || keep_layers_) {
       options.keep_layers = true;
@@ -125,6 +132,7 @@ class Renderer {
     scene_changed_ = false;
     engine_.begin_frame(camera, index, tone_mapping_ ? *tone_mapping_ : ToneMapping{}, options);
     const auto vpls_done = clock::now();
+    held_vpl_frames_ = engine_.frame().vpls_kept ? held_vpl_frames_ + 1 : 0;
 
     std::mutex merge_mutex;
     FrameStatistics& stats = frame.statistics;
@@ -145,6 +153,7 @@ class Renderer {
     tone_mapping_ = next;
     stats.tiles = int(engine_.tiles().size());
     stats.vpls = engine_.frame().vpl_count();
+    stats.vpls_kept = engine_.frame().vpls_kept;
     const auto end = clock::now();
     stats.milliseconds = std::chrono::duration<double, std::milli>(end - start).count();
     stats.vpl_milliseconds = std::chrono::duration<double, std::milli>(vpls_done - start).count();
@@ -226,6 +235,9 @@ class Renderer {
       engine_.settings().temporal_frames > 0 ? std::optional<TemporalReuse>(engine_.settings().temporal_frames)
                                              : std::nullopt;
   bool scene_changed_ = false;       ///< Whether the scene changed since the last frame (temporal reuse clamps its histories).
+  int held_vpl_frames_ = 0;          ///< Frames in a row that kept their VPLs (RenderSettings::held_vpl_frames).
+  /// Frames rendered since the scene last changed (the first frame counts as unchanged: it has no history).
+  int frames_since_change_ = TemporalReuse::moving_frames;
   std::vector<PixelLayers> layers_;  ///< The current frame's PixelLayers (with temporal reuse).
 };
 

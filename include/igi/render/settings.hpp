@@ -80,6 +80,17 @@ struct RenderSettings {
   /// pixel still traces them every shadow_refresh_frames-th frame (frame_state.hpp). The image is
   /// the traced one up to shadows finer than a pixel. false: every frame traces them all.
   bool reuse_shadows = true;
+  /// With temporal reuse: while the camera moves and the scene does not change, a frame keeps
+  /// the VPLs of the frame before it instead of drawing new ones, for up to this many frames in a
+  /// row; a still view draws new VPLs every frame (its history averages them), and so do the
+  /// frames after a change until the moving histories hold only frames of the changed scene. Each frame's
+  /// VPLs differ in their few heavy light paths, which a moving camera's short histories cannot
+  /// average away: kept ones leave the image mean steady and the flicker at the reference's
+  /// (docs/interaction.md). A refresh while moving changes the image mean as much as a new frame
+  /// of VPLs does (a step the short histories smooth over a few frames), so it comes rarely:
+  /// 240 frames, 10 s at 24 frames a second, only bounds how long VPLs aimed through the openings
+  /// of a view left long ago light the new one. 0: every frame draws new VPLs.
+  int held_vpl_frames = 240;
   std::uint32_t seed = 0;         ///< Randomisation of the QMC sequences.
   int threads = 0;                ///< Worker threads; 0 means all cores.
 };
@@ -96,6 +107,9 @@ inline constexpr int max_compensation_rays = 64;
 /// Longest temporal history: at 1024 frames the clamp has shrunk to 0.18 of its setting (the
 /// fourth root), and a new frame's weight 1/1024 is still far above float rounding of the average.
 inline constexpr int max_temporal_frames = 1024;
+/// Longest run of frames that keep their VPLs while the camera moves: past 100000 frames (over
+/// an hour at 24 frames a second) a run is as good as never refreshed.
+inline constexpr int max_held_vpl_frames = 100000;
 /// Most environment directions: 1024 shadow rays per pixel for the sky alone is past any use.
 inline constexpr int max_environment_directions = 1024;
 /// Largest anti-aliasing factor: 64 sub-samples per pixel is past any visible gain.
@@ -134,6 +148,9 @@ inline void validate(const RenderSettings& s) {
   require(s.compensation_rays >= 0 && s.compensation_rays <= max_compensation_rays,
           "compensation rays " + std::to_string(s.compensation_rays) + " is outside 0.." +
               std::to_string(max_compensation_rays));
+  require(s.held_vpl_frames >= 0 && s.held_vpl_frames <= max_held_vpl_frames,
+          "held VPL frames " + std::to_string(s.held_vpl_frames) + " is outside 0.." +
+              std::to_string(max_held_vpl_frames));
   require(s.temporal_frames >= 0 && s.temporal_frames <= max_temporal_frames,
           "temporal frames " + std::to_string(s.temporal_frames) + " is outside 0.." +
               std::to_string(max_temporal_frames));

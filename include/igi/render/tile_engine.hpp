@@ -130,7 +130,7 @@ class TileEngine {
     // In the engine's arena: a sampler's parallel loops (ImportanceVplSampler) use its threads.
     arena_.execute([&] {
       frame_.prepare(*scene_, bounds_.bounds(), *backend_, *surface_, *brdf_, *sampler_, settings_, camera, index,
-                     tone_mapping, options.clamp_scale);
+                     tone_mapping, options.clamp_scale, options.keep_vpls);
     });
     frame_.profile = options.profile;
     frame_.keep_layers = options.keep_layers;
