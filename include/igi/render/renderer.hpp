@@ -4,6 +4,7 @@
 /// whose tiles share their borders, TileEngine::render_frame), the tiles are
 /// placed into the frame, and their statistics combined into the next frame's tone mapping.
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <mutex>
@@ -121,7 +122,7 @@ class Renderer {
       // A camera that moves through an unchanged scene keeps its VPLs (RenderSettings::held_vpl_frames),
       // once the moving histories hold no frame from before the scene's last change: until then
       // each frame's new VPLs add an independent sample of the changed light to the clamped histories.
-      frames_since_change_ = scene_changed_ ? 0 : frames_since_change_ + 1;
+      frames_since_change_ = scene_changed_ ? 0 : std::min(frames_since_change_ + 1, TemporalReuse::moving_frames);
       options.keep_vpls = frames_since_change_ >= TemporalReuse::moving_frames && temporal_->still_frames() == 0 &&
                           held_vpl_frames_ < settings.held_vpl_frames;
     }
@@ -236,7 +237,8 @@ class Renderer {
                                              : std::nullopt;
   bool scene_changed_ = false;       ///< Whether the scene changed since the last frame (temporal reuse clamps its histories).
   int held_vpl_frames_ = 0;          ///< Frames in a row that kept their VPLs (RenderSettings::held_vpl_frames).
-  /// Frames rendered since the scene last changed (the first frame counts as unchanged: it has no history).
+  /// Frames rendered since the scene last changed, up to TemporalReuse::moving_frames (the first
+  /// frame counts as unchanged: it has no history).
   int frames_since_change_ = TemporalReuse::moving_frames;
   std::vector<PixelLayers> layers_;  ///< The current frame's PixelLayers (with temporal reuse).
 };
