@@ -12,6 +12,9 @@ tracer, in parts:
   clamp       the rooms again without the clamp (--clamp 0), shares 0 and 0.7: how much of their
               darkness the clamp makes.
   converge    the rooms at 256 VPLs, shares 0 and 0.7, seeds 1-3: whether it goes with more VPLs.
+  samplers    the window-lit rooms (the sky rooms, the sun alone, and the built-in window and
+              blinds rooms lit by their sky panel) at the default share, seeds 1-16, with
+              --vpl-sampler qmc and importance; the coefficient of variation also over seeds 1-8.
 
 References: igi-path-render --pixel-centre (IGI samples pixel centres), REFERENCE_SPP per seed,
 seeds 1 and 2, cached in WORK_DIR; the reference is their average (2 x REFERENCE_SPP), and the
@@ -21,8 +24,9 @@ ms_per_frame (the median of --frames 3; wall clock, 2 threads; the machine is sh
 are noisy). Every run has a timeout.
 
 usage: python3 bench/accuracy/sky.py BUILD_DIR WORK_DIR OUT_DIR [PARTS] [SCENES_DIR] [TREES]
-  PARTS: a comma-separated subset of portals,sun,clamp,converge,directions (default: all, about
-  25 minutes on 2 busy cores; a subset writes sky_PARTS.csv and sky_PARTS_findings.txt instead)
+  PARTS: a comma-separated subset of portals,sun,clamp,converge,directions,samplers (default: all
+  but samplers, about 25 minutes on 2 busy cores; a subset writes sky_PARTS.csv and
+  sky_PARTS_findings.txt instead; samplers takes about 10 minutes with the references cached)
 writes OUT_DIR/sky.csv and OUT_DIR/sky_findings.txt (and OUT_DIR/sky.png if matplotlib imports).
 """
 
@@ -56,6 +60,8 @@ def scene_arguments(scene, scenes_dir, work, trees):
         "blinds-sky": ["--builtin", "blinds-sky"],
         "two-windows": ["--builtin", "two-windows"],
         "window-sun": ["--builtin", "window-sky", "--environment", "none"],
+        "window": ["--builtin", "window"],
+        "blinds": ["--builtin", "blinds"],
     }[scene]
 
 
@@ -228,11 +234,15 @@ def portals_part(build, work, scenes_dir, trees, scenes, log, shares=SHARES, ext
             row["relmse_median_over_share0"] = row["relmse_median"] / base["relmse_median"]
             row["target_half_error_met"] = row["relmse_mean_over_share0"] <= 0.5 if share > 0 else ""
             row["target_cv_met"] = row["mean_ratio_cv"] <= 0.05
+            if len(ratios) > 8:  # the target's own seeds, 1-8
+                row["mean_ratio_cv_seeds_1_8"] = cv(ratios[:8])
             rows.append(row)
             log(f"  {share:5} {row['relmse_mean']:11.4f} {row['relmse_median']:7.4f} {max(errors):7.4f} "
                 f"{min(ratios):12.3f} {max(ratios):6.3f} {100 * row['mean_ratio_cv']:5.1f}% {row['ms_per_frame']:9.1f} "
                 f"{row['vpls_per_frame']:10}   mean/share0 {row['relmse_mean_over_share0']:.2f}, "
                 f"median/share0 {row['relmse_median_over_share0']:.2f}")
+            if "mean_ratio_cv_seeds_1_8" in row:
+                log(f"        CV over seeds 1-8 {100 * row['mean_ratio_cv_seeds_1_8']:.1f}%")
             log(f"        relMSE per seed {row['relmse_per_seed']}; mean/ref per seed {row['mean_ratio_per_seed']}")
     return rows
 
@@ -297,12 +307,17 @@ def main():
                              shares=[0.0, 0.7], tag="converge", vpls=256, seeds=[1, 2, 3])
     if "directions" in parts:
         rows += directions_part(build, work, scenes_dir, trees, log)
+    if "samplers" in parts:  # is the image mean steady over seeds, with either sampler?
+        for sampler in ("qmc", "importance"):
+            rows += portals_part(build, work, scenes_dir, trees,
+                                 ["window-sky", "blinds-sky", "two-windows", "window-sun", "window", "blinds"], log,
+                                 shares=[0.7], extra=("--vpl-sampler", sampler), tag="samplers", seeds=list(range(1, 17)))
     suffix = "" if sorted(parts) == sorted(ALL_PARTS.split(",")) else "_" + "_".join(parts)
     write_csv(out / f"sky{suffix}.csv", rows)
     (out / f"sky{suffix}_findings.txt").write_text(
         "igi-render vs igi-path-render (pixel centres); the machine is shared (2 cores, others compiling): "
         "timings are noisy medians\n" + "\n".join(lines) + "\n")
-    png = chart(out, rows)
+    png = chart(out, rows) if any(r["part"] in ("directions", "portals") for r in rows) else None
     print(f"sky: wrote {out}/sky{suffix}.csv, sky{suffix}_findings.txt" + (f", {png}" if png else ""))
 
 
