@@ -26,7 +26,7 @@ are noisy). Every run has a timeout.
 usage: python3 bench/accuracy/sky.py BUILD_DIR WORK_DIR OUT_DIR [PARTS] [SCENES_DIR] [TREES]
   PARTS: a comma-separated subset of portals,sun,clamp,converge,directions,samplers (default: all
   but samplers, about 25 minutes on 2 busy cores; a subset writes sky_PARTS.csv and
-  sky_PARTS_findings.txt instead; samplers takes about 10 minutes with the references cached)
+  sky_PARTS_findings.txt instead; samplers takes about 4 minutes with the references cached)
 writes OUT_DIR/sky.csv and OUT_DIR/sky_findings.txt (and OUT_DIR/sky.png if matplotlib imports).
 """
 
