@@ -148,7 +148,8 @@ void add_temporal_option(CommandLine& command_line, std::optional<int>& temporal
   command_line.add("--hold-vpls", settings.held_vpl_frames,
                    "with temporal reuse, while the camera moves through an unchanged scene each frame keeps the "
                    "previous frame's VPLs, for up to this many frames in a row, so the image's brightness stays "
-                   "steady; a still view or a change in the scene draws new ones (0: new VPLs every frame)")
+                   "steady, and a light that changes draws its VPLs with the previous ones' random numbers, so "
+                   "they move with it; a still view or a moved object draws new ones (0: new VPLs every frame)")
       .range(0, max_held_vpl_frames);
 }
 

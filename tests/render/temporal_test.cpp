@@ -426,6 +426,53 @@ TEST_CASE("temporal reuse: a camera moving through an unchanged scene keeps its 
   CHECK(difference(held_frame, same_frame) < 1e-3 * difference(held_frame, fresh_frame));
 }
 
+TEST_CASE("temporal reuse: a light that changes draws its VPLs with the random numbers of those it replaces",
+          "[render][temporal]") {
+  // With the view still every frame draws new VPLs (the history averages them); a frame whose
+  // light changed draws them with the previous VPLs' numbers, so that they move with the light;
+  // a moved object that emits no light does not, nor does any frame with held_vpl_frames 0.
+  Scene scene = cornell_box();
+  scene.lights.push_back(PunctualLight{.name = "lamp", .color = glm::vec3(1.0f), .intensity = 0.3f,
+                                       .position = glm::vec3(0.3f, 0.4f, 0.3f)});
+  RenderSettings s = small_settings();
+  s.temporal_frames = 32;
+  const Camera camera = scene.cameras.front();
+  const auto sequence = [&](const RenderSettings& settings) {
+    Scene copy = scene;
+    TemporalRenderer<> renderer(copy, settings);
+    std::vector<std::uint32_t> indices;
+    PunctualLight lamp = copy.lights.front();
+    const auto shifted = [&](int instance) {
+      return glm::translate(glm::mat4(1.0f), glm::vec3(-0.01f, 0.0f, 0.0f)) * copy.instances[std::size_t(instance)].transform;
+    };
+    for (std::uint32_t index = 0; index < 8; ++index) {
+      if (index == 2 || index == 3) {  // the lamp moves in two frames in a row, through apply the second time
+        lamp.position.x -= 0.01f;
+        if (index == 2) {
+          renderer.renderer.set_light(0, lamp);
+        } else {
+          SceneChanges changes;
+          changes.camera = camera;
+          changes.lights.emplace_back(0, lamp);
+          renderer.renderer.apply(changes);
+        }
+      }
+      if (index == 5) renderer.renderer.set_instance_transform(largebox_instance, shifted(largebox_instance));
+      if (index == 6) renderer.renderer.set_instance_transform(luminaire_instance, shifted(luminaire_instance));
+      indices.push_back(renderer.renderer.render(camera, index).statistics.vpl_index);
+    }
+    return indices;
+  };
+  CHECK(sequence(s) == std::vector<std::uint32_t>{0, 1, 1, 1, 4, 5, 5, 7});
+  RenderSettings fresh = s;
+  fresh.held_vpl_frames = 0;
+  CHECK(sequence(fresh) == std::vector<std::uint32_t>{0, 1, 2, 3, 4, 5, 6, 7});
+  // The run of frames with the same numbers is bounded as the held VPLs' is.
+  RenderSettings short_runs = s;
+  short_runs.held_vpl_frames = 1;
+  CHECK(sequence(short_runs) == std::vector<std::uint32_t>{0, 1, 1, 3, 4, 5, 5, 7});
+}
+
 TEST_CASE("temporal reuse: every backend, packet width and thread count renders the same sequence", "[render][temporal][determinism]") {
   Scene scene = cornell_box();
   RenderSettings s = small_settings();

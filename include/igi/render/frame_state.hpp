@@ -52,6 +52,10 @@ struct FrameOptions {
   /// Keep the previous frame's VPLs instead of drawing new ones (the camera moves through an
   /// unchanged scene: RenderSettings::held_vpl_frames); the first frame draws them anyway.
   bool keep_vpls = false;
+  /// The frame index whose random numbers draw the VPLs when they are not kept; empty: the
+  /// frame's own. A scene that changes under the same numbers moves its VPLs with the change
+  /// instead of replacing them (RenderSettings::held_vpl_frames).
+  std::optional<std::uint32_t> vpl_index = std::nullopt;
   /// Where in its cell each sub-sample's primary ray passes (subsample_offset; the centre by
   /// default; temporal reuse moves it from one still frame to the next, so they cover the pixel).
   glm::vec2 pixel_jitter{0.5f};
@@ -99,12 +103,14 @@ struct FrameState {
   /// with `tone_mapping`: VPLs from `sampler`, whose walks shade their hits with the frame's own
   /// `surface` and `brdf` shaders, spread for glossy receivers by assign_vpl_radii, and clamp and ray offsets from the scene's world `bounds`
   /// (SceneBounds keeps them without walking every vertex each frame), the clamp times `clamp_scale`.
-  /// With `keep_vpls` the VPLs of the frame prepared before stay (drawn anew if there are none).
+  /// With `keep_vpls` the VPLs of the frame prepared before stay (drawn anew if there are none);
+  /// else they are drawn with the random numbers of frame `vpl_index` (empty: `index`).
   template <class B, class Surface, class Brdf, class Sampler>
     requires VplSampler<Sampler, B, Surface, Brdf>
   void prepare(const Scene& scene, const Bounds& bounds, const B& backend, const Surface& surface, const Brdf& brdf,
                const Sampler& sampler, const RenderSettings& frame_settings, const Camera& camera, std::uint32_t index,
-               const ToneMapping& frame_tone_mapping, float clamp_scale = 1.0f, bool keep_vpls = false) {
+               const ToneMapping& frame_tone_mapping, float clamp_scale = 1.0f, bool keep_vpls = false,
+               std::optional<std::uint32_t> vpl_index = std::nullopt) {
     const PinholeProjection frame_projection(camera, frame_settings.width, frame_settings.height);
     const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
     const float frame_clamp = resolve_clamp(frame_settings, diagonal) * clamp_scale;
@@ -112,7 +118,8 @@ struct FrameState {
     if (!vpls_kept) {
       const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
       const VplView view{.projection = frame_projection, .clamp_distance = frame_clamp};
-      vpls = sampler.generate(scene, backend, surface, brdf, vpl_settings_for(frame_settings, index, bounds, &view));
+      vpls = sampler.generate(scene, backend, surface, brdf,
+                              vpl_settings_for(frame_settings, vpl_index.value_or(index), bounds, &view));
       assign_vpl_radii(vpls);
     }
     cutouts = CutoutMeshes(scene);

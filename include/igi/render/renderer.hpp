@@ -29,6 +29,7 @@ struct FrameStatistics {
   int tiles = 0;                  ///< Tiles rendered.
   int vpls = 0;                   ///< VPLs in all sets.
   bool vpls_kept = false;         ///< Whether the frame kept the previous frame's VPLs (RenderSettings::held_vpl_frames).
+  std::uint32_t vpl_index = 0;    ///< The frame index whose random numbers drew the frame's VPLs (its own, or an earlier frame's: RenderSettings::held_vpl_frames).
   LuminanceStatistics luminance;  ///< Combined tile statistics.
   StageTimes stages;              ///< CPU time per pipeline stage, summed over tiles (with Renderer::set_profiling).
   double commit_milliseconds = 0.0;  ///< Part of vpl_milliseconds: scene changes committed to the backend (BVH updates).
@@ -125,15 +126,23 @@ class Renderer {
       frames_since_change_ = scene_changed_ ? 0 : std::min(frames_since_change_ + 1, TemporalReuse::moving_frames);
       options.keep_vpls = frames_since_change_ >= TemporalReuse::moving_frames && temporal_->still_frames() == 0 &&
                           held_vpl_frames_ < settings.held_vpl_frames;
+      // A light that changed (moved, turned, dimmed) draws its VPLs with the random numbers of
+      // those it replaces: they move with the light instead of being replaced by other light
+      // paths. Every VPL changes with it, so the histories, clamped everywhere, keep little, and
+      // new numbers each frame would make the image pulse with each frame's few heavy paths. A
+      // moved object changes only the paths that meet it: there the histories average new ones.
+      if (lights_changed_ && vpl_index_ && held_vpl_frames_ < settings.held_vpl_frames) options.vpl_index = vpl_index_;
     }
     if (temporal_ || keep_layers_) {
       options.keep_layers = true;
       layers_.resize(std::size_t(settings.width) * std::size_t(settings.height));
     }
-    scene_changed_ = false;
+    scene_changed_ = lights_changed_ = false;
     engine_.begin_frame(camera, index, tone_mapping_ ? *tone_mapping_ : ToneMapping{}, options);
     const auto vpls_done = clock::now();
-    held_vpl_frames_ = engine_.frame().vpls_kept ? held_vpl_frames_ + 1 : 0;
+    const bool same_numbers = engine_.frame().vpls_kept || options.vpl_index.has_value();
+    held_vpl_frames_ = same_numbers ? held_vpl_frames_ + 1 : 0;
+    if (!same_numbers) vpl_index_ = index;
 
     std::mutex merge_mutex;
     FrameStatistics& stats = frame.statistics;
@@ -155,6 +164,7 @@ class Renderer {
     stats.tiles = int(engine_.tiles().size());
     stats.vpls = engine_.frame().vpl_count();
     stats.vpls_kept = engine_.frame().vpls_kept;
+    stats.vpl_index = *vpl_index_;
     const auto end = clock::now();
     stats.milliseconds = std::chrono::duration<double, std::milli>(end - start).count();
     stats.vpl_milliseconds = std::chrono::duration<double, std::milli>(vpls_done - start).count();
@@ -165,26 +175,26 @@ class Renderer {
   /// Moves instance `instance` (takes effect at the next frame).
   void set_instance_transform(int instance, const glm::mat4& transform) {
     engine_.set_instance_transform(instance, transform);
-    scene_changed_ = true;
+    note_change({.scene = true, .lights = emits_light(scene(), scene().instances[std::size_t(instance)].mesh)});
   }
   /// Replaces the vertex positions of mesh `mesh` (same count; takes effect at the next frame).
   void set_mesh_positions(int mesh, std::span<const glm::vec3> positions) {
     engine_.set_mesh_positions(mesh, positions);
-    scene_changed_ = true;
+    note_change({.scene = true, .lights = emits_light(scene(), mesh)});
   }
   /// Replaces the vertices of a mesh (see TileEngine::set_mesh_vertices).
   void set_mesh_vertices(const MeshVertices& vertices) {
     engine_.set_mesh_vertices(vertices);
-    scene_changed_ = true;
+    note_change({.scene = true, .lights = emits_light(scene(), vertices.mesh)});
   }
   /// Replaces punctual light `light` (lights are read afresh every frame).
   void set_light(int light, const PunctualLight& value) {
     engine_.set_light(light, value);
-    scene_changed_ = true;
+    note_change({.scene = true, .lights = true});
   }
   /// Applies an animation's `changes` and returns their camera (see TileEngine::apply).
   Camera apply(const SceneChanges& changes) {
-    if (engine_.apply(changes)) scene_changed_ = true;
+    note_change(engine_.apply(changes));
     return changes.camera;
   }
   /// Times every pipeline stage of the following frames into FrameStatistics::stages (off by
@@ -228,6 +238,12 @@ class Renderer {
     for (const LuminanceAccumulator& row : rows) luminance.merge(row.statistics());  // in row order: the same sums on any thread count
   }
 
+  /// Remembers `changed` for the next frame.
+  void note_change(const AppliedChanges& changed) noexcept {
+    scene_changed_ |= changed.scene;
+    lights_changed_ |= changed.lights;
+  }
+
   Engine engine_;
   std::optional<ToneMapping> tone_mapping_;
   bool profiling_ = false;
@@ -236,7 +252,9 @@ class Renderer {
       engine_.settings().temporal_frames > 0 ? std::optional<TemporalReuse>(engine_.settings().temporal_frames)
                                              : std::nullopt;
   bool scene_changed_ = false;       ///< Whether the scene changed since the last frame (temporal reuse clamps its histories).
-  int held_vpl_frames_ = 0;          ///< Frames in a row that kept their VPLs (RenderSettings::held_vpl_frames).
+  bool lights_changed_ = false;      ///< Whether a light changed since the last frame (AppliedChanges::lights).
+  int held_vpl_frames_ = 0;          ///< Frames in a row that kept their VPLs or their random numbers (RenderSettings::held_vpl_frames).
+  std::optional<std::uint32_t> vpl_index_;  ///< The frame index whose random numbers drew the current VPLs (none before the first frame).
   /// Frames rendered since the scene last changed, up to TemporalReuse::moving_frames (the first
   /// frame counts as unchanged: it has no history).
   int frames_since_change_ = TemporalReuse::moving_frames;

@@ -31,6 +31,15 @@
 
 namespace igi {
 
+/// What TileEngine::apply changed.
+struct AppliedChanges {
+  bool scene = false;   ///< Anything: a light, an instance or a mesh.
+  bool lights = false;  ///< A light: a punctual one, or an instance or mesh of an emissive material.
+};
+
+/// Whether mesh `mesh` of `scene` emits light (moving it moves a light).
+inline bool emits_light(const Scene& scene, int mesh) noexcept { return scene.material_of(mesh).emissive(); }
+
 /// Renders tiles of frames of a scene with the IGI pipeline. The scene and policies are borrowed
 /// and must outlive the engine; the backend is built and owned here. Change the scene only through
 /// the engine (so the backend follows) and only between frames.
@@ -92,25 +101,27 @@ class TileEngine {
   /// Replaces punctual light `light` (lights are read afresh every frame).
   void set_light(int light, const PunctualLight& value) { scene_->lights.at(std::size_t(light)) = value; }
   /// Applies `changes` (throws SceneError on an index the scene lacks, before changing anything);
-  /// returns whether any light or instance changed. Only what differs is set, so an unchanged
-  /// scene is not re-committed and the first frame of an animation renders exactly as a still frame.
-  bool apply(const SceneChanges& changes) {
+  /// returns what changed. Only what differs is set, so an unchanged scene is not re-committed
+  /// and the first frame of an animation renders exactly as a still frame.
+  AppliedChanges apply(const SceneChanges& changes) {
     changes.check(*scene_);
-    bool changed = false;
+    AppliedChanges changed;
     for (const auto& [index, light] : changes.lights)
       if (!(scene_->lights[std::size_t(index)] == light)) {
         set_light(index, light);
-        changed = true;
+        changed.scene = changed.lights = true;
       }
     for (const auto& [index, transform] : changes.instances)
       if (scene_->instances[std::size_t(index)].transform != transform) {
         set_instance_transform(index, transform);
-        changed = true;
+        changed.scene = true;
+        changed.lights |= emits_light(*scene_, scene_->instances[std::size_t(index)].mesh);
       }
     for (const MeshVertices& vertices : changes.meshes)
       if (scene_->meshes[std::size_t(vertices.mesh)].positions != vertices.positions) {
         set_mesh_vertices(vertices);
-        changed = true;
+        changed.scene = true;
+        changed.lights |= emits_light(*scene_, vertices.mesh);
       }
     return changed;
   }
@@ -130,7 +141,7 @@ class TileEngine {
     // In the engine's arena: a sampler's parallel loops (ImportanceVplSampler) use its threads.
     arena_.execute([&] {
       frame_.prepare(*scene_, bounds_.bounds(), *backend_, *surface_, *brdf_, *sampler_, settings_, camera, index,
-                     tone_mapping, options.clamp_scale, options.keep_vpls);
+                     tone_mapping, options.clamp_scale, options.keep_vpls, options.vpl_index);
     });
     frame_.profile = options.profile;
     frame_.keep_layers = options.keep_layers;
