@@ -23,7 +23,7 @@ def main():
     out = Path(sys.argv[2])
     walks = data["walks"]
     lines = [f"walkthroughs: {data['size']}, {data['frames']} frames at {data['fps']} fps, references "
-             f"{data['reference_spp']} spp (pixel centres), {data['threads']} threads",
+             f"{data['reference_spp']} spp (pixel centres, textures read over the camera rays' footprint as IGI's), {data['threads']} threads",
              f"{'walk':16} {'method':18} {'mean CV':>8} {'relMSE med':>10} {'relMSE worst':>12} "
              f"{'flicker med':>11} {'(floor)':>8} {'ms med':>8}"]
     figure, axes = plt.subplots(2, len(walks), figsize=(4.2 * len(walks), 7), squeeze=False)

@@ -152,6 +152,7 @@ struct Method {
   float roulette = RenderSettings{}.shadow_roulette;   ///< --roulette (IGI only).
   int compensate = RenderSettings{}.compensation_rays; ///< --compensate (IGI only).
   int hold = RenderSettings{}.held_vpl_frames;         ///< --hold-vpls (IGI only).
+  bool filter_textures = RenderSettings{}.filter_textures;  ///< Camera rays read textures at their footprint (IGI only; --point-textures turns it off).
 };
 
 /// The methods measured: igi-render's and igi-view's defaults (temporal reuse over 32 frames,
@@ -172,7 +173,7 @@ const std::vector<Method> all_methods = {
     {"default 1 VPL", "qmc", default_temporal_frames, false, RenderSettings{}.portal_share, 1}};
 
 /// A method given by its settings: "custom" and then any of vpls=M, sampler=qmc|importance,
-/// temporal=FRAMES, portal-share=SHARE, roulette=FRACTION, compensate=RAYS and hold=FRAMES, separated by
+/// temporal=FRAMES, portal-share=SHARE, roulette=FRACTION, compensate=RAYS, hold=FRAMES and textures=filtered|point, separated by
 /// spaces; unnamed settings are the default method's. Throws UsageError naming a bad one.
 Method custom_method(const std::string& spec) {
   Method method = all_methods.front();
@@ -192,6 +193,10 @@ Method custom_method(const std::string& spec) {
       if (key == "roulette") method.roulette = std::stof(value, &used);
       if (key == "compensate") method.compensate = std::stoi(value, &used);
       if (key == "hold") method.hold = std::stoi(value, &used);
+      if (key == "textures" && (value == "filtered" || value == "point")) {
+        method.filter_textures = value == "filtered";
+        used = value.size();
+      }
     } catch (const std::exception&) {
       used = 0;  // not a number
     }
@@ -202,7 +207,7 @@ Method custom_method(const std::string& spec) {
     if (used == 0 || used != value.size())
       throw UsageError("--methods: '" + word + "' in '" + spec +
                        "' is not one of vpls=M, sampler=qmc|importance, temporal=FRAMES, portal-share=SHARE, "
-                       "roulette=FRACTION, compensate=RAYS, hold=FRAMES");
+                       "roulette=FRACTION, compensate=RAYS, hold=FRAMES, textures=filtered|point");
   }
   return method;
 }
@@ -325,12 +330,16 @@ struct Reference {
 std::vector<Reference> references(const WalkFrames& frames, const Walk& walk, const Options& options,
                                                  const ImageSize& size, const std::filesystem::path& work) {
   std::vector<Reference> result;
+  // A textured scene's references read their textures over each camera ray's footprint, as IGI's
+  // frames do (files of their own: those read at points compared IGI's filtered textures with
+  // aliased ones, and their difference dwarfed the light's error); untextured ones are the same either way.
+  const std::string footprint = frames.scene.textures.empty() ? "" : "_footprint";
   for (std::size_t f = 0; f < frames.changes.size(); ++f) {
     std::vector<Image> halves;
     for (std::uint32_t seed : {1u, 2u}) {
       const std::filesystem::path file = work / (walk.name + "_" + std::to_string(size.width) + "x" + std::to_string(size.height) +
                                                  "_spp" + std::to_string(options.reference_spp) + "_f" + std::to_string(f) +
-                                                 "_s" + std::to_string(seed) + ".pfm");
+                                                 "_s" + std::to_string(seed) + footprint + ".pfm");
       if (std::filesystem::exists(file)) {
         halves.push_back(read_image(file));
         continue;
@@ -344,6 +353,7 @@ std::vector<Reference> references(const WalkFrames& frames, const Walk& walk, co
       settings.seed = seed;
       settings.threads = options.threads;
       settings.jitter = false;  // pixel centres, as IGI without anti-aliasing samples them
+      settings.filter_textures = RenderSettings{}.filter_textures;
       PathTracer<Backend, GltfMaterialShader, StandardBrdf> tracer(scene, backend, surface, brdf, settings);
       halves.push_back(tracer.render(frames.changes[f].camera, size.width, size.height, options.reference_spp / 2));
       write_image(file, halves.back());
@@ -429,6 +439,7 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
       settings.shadow_roulette = method.roulette;
       settings.compensation_rays = method.compensate;
       settings.held_vpl_frames = method.hold;
+      settings.filter_textures = method.filter_textures;
       sampler.emplace(method.vpl_sampler);
       renderer.emplace(scene, settings, surface, brdf, *sampler, filter);
     }

@@ -2,19 +2,24 @@
 // neighbouring pixels (Pipeline::trace_camera_rays), and each set's packets take their rays and
 // hits from there. These tests check that every pixel and sub-sample gets its own ray's hit,
 // against single rays cast by a W = 1 backend outside the pipeline, on image and tile sizes that
-// leave partial packets at every tile's right and bottom edge.
+// leave partial packets at every tile's right and bottom edge; and that the reference path
+// tracer's camera rays read textures as the pipeline's do.
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <mutex>
+#include <span>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "igi/backends/saarcor/saarcor_backend.hpp"
+#include "igi/render/path_tracer.hpp"
 #include "igi/render/tile_engine.hpp"
 #include "render_support.hpp"
 
@@ -136,4 +141,64 @@ TEST_CASE("camera rays: every pixel and sub-sample gets its own ray's hit, at ev
   check_against_single_rays<EmbreeBackend<16>>("embree 16");
   check_against_single_rays<ReferenceBackend<8>>("reference 8");
   check_against_single_rays<SaarcorBackend>("saarcor 64");
+}
+
+TEST_CASE("camera rays: the path tracer's pixel-centre rays read textures over the footprint IGI's do", "[render][texture]") {
+  // A floor seen at a grazing angle with a checkerboard of single texels 256 across: each pixel
+  // spans many texels far off, few near. The reference path tracer through the pixel centres
+  // with PathTracerSettings::filter_textures must read each first hit's albedo as IGI's camera
+  // rays do (RenderSettings::filter_textures), so that a comparison of the two measures the
+  // light only; read at points, the checks alias.
+  Scene scene;
+  scene.name = "checkerboard floor";
+  Texture board{.name = "checks", .width = 256, .height = 256, .texels = {}};
+  for (int y = 0; y < board.height; ++y)
+    for (int x = 0; x < board.width; ++x) {
+      const std::uint8_t code = (x + y) % 2 ? 255 : 0;
+      board.texels.insert(board.texels.end(), {code, code, code, 255});
+    }
+  scene.textures.push_back(board);
+  const int floor = add_material(scene, glm::vec3(1.0f));
+  scene.materials[std::size_t(floor)].base_color_texture = 0;
+  add_quad(scene, {0.0f, 0.0f, 0.0f}, {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 3.0f, floor);
+  scene.lights.push_back({.name = "sun", .kind = PunctualKind::directional, .intensity = 2.0f,
+                          .direction = glm::normalize(glm::vec3(-1.0f, -1.0f, 0.0f))});
+  scene.cameras.push_back(look_at({0.0f, 1.0f, 3.5f}, {0.0f, 0.0f, 0.0f}, 1.0f));
+  RenderSettings settings;
+  settings.width = 48;
+  settings.height = 36;
+  settings.threads = 2;
+  RoomRenderer igi(scene, settings);
+  igi.renderer.set_keep_layers(true);
+  igi.render(scene.cameras.front(), 0);
+  const std::span<const PixelLayers> igi_layers = igi.renderer.layers();
+
+  const EmbreeBackend<1> backend(scene);
+  const auto path_traced_layers = [&](bool filter_textures) {
+    PathTracerSettings path_settings;
+    path_settings.jitter = false;
+    path_settings.filter_textures = filter_textures;
+    path_settings.threads = 2;
+    PathTracer<EmbreeBackend<1>, GltfMaterialShader, StandardBrdf> tracer(scene, backend, igi.surface, igi.brdf, path_settings);
+    tracer.reset(scene.cameras.front(), settings.width, settings.height);
+    return tracer.first_hits();
+  };
+  const std::vector<PixelLayers> footprint = path_traced_layers(true), points = path_traced_layers(false);
+  REQUIRE(footprint.size() == igi_layers.size());
+  float largest_difference = 0.0f, largest_aliasing = 0.0f;
+  int hits = 0;
+  for (std::size_t i = 0; i < footprint.size(); ++i) {
+    REQUIRE(footprint[i].hit == igi_layers[i].hit);
+    if (!footprint[i].hit) continue;
+    ++hits;
+    largest_difference = std::max(largest_difference, glm::length(footprint[i].albedo - igi_layers[i].albedo));
+    largest_aliasing = std::max(largest_aliasing, glm::length(points[i].albedo - igi_layers[i].albedo));
+  }
+  INFO(hits << " pixels on the floor: largest albedo difference " << largest_difference << " at the footprint, "
+            << largest_aliasing << " at points");
+  REQUIRE(hits > settings.width * settings.height / 2);
+  // The same cone through the same pixel centre: the same lookups up to float rounding.
+  CHECK(largest_difference < 1e-5f);
+  // Read at points, far-off pixels take a black or a white texel where the footprint reads grey.
+  CHECK(largest_aliasing > 0.3f);
 }

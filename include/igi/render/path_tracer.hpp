@@ -59,6 +59,10 @@ struct PathTracerSettings {
   int russian_roulette_depth = 3;  ///< Bounces traced unconditionally before Russian roulette starts.
   int max_depth = 1024;            ///< Safety cap on bounces; with survival <= 0.95 it cuts at most 0.95^1000 ~ 5e-23 of the light.
   bool jitter = true;              ///< Sample the whole pixel (box filter); false: the pixel centre only (or PathTracer::set_pixel_position's point), as IGI with aa 1.
+  /// Without jitter: camera rays read textures over a one-pixel footprint, as IGI's do
+  /// (RenderSettings::filter_textures), so that a reference through the pixel centres differs
+  /// from IGI's frame by the light alone. Jittered samples integrate the pixel's area themselves.
+  bool filter_textures = false;
   int tile_size = 16;              ///< Tile edge of the parallel loop (work unit only; no effect on the image).
 };
 
@@ -182,7 +186,7 @@ class PathTracer {
                   vec3<1>(projection_->direction(float(x) + pixel_position_.x, float(y) + pixel_position_.y)),
                   vfloat<1>(0.0f), vfloat<1>(std::numeric_limits<float>::infinity()), vmask<1>(true));
           std::uint64_t rays = 0;
-          const Vertex v = trace(ray, rays);
+          const Vertex v = trace(ray, rays, camera_cone_spread());
           if (!v.found) continue;
           PixelLayers& pixel = layers[std::size_t(y) * std::size_t(width) + std::size_t(x)];
           pixel.albedo = v.parameters.albedo[0];
@@ -246,8 +250,14 @@ class PathTracer {
   /// Largest component.
   static float largest(const glm::vec3& v) noexcept { return std::max(v.x, std::max(v.y, v.z)); }
 
-  /// Traces `ray` to its first opaque hit (passing alpha cut-outs) and shades it.
-  Vertex trace(RayPacket<1>& ray, std::uint64_t& count) const {
+  /// How much a camera ray's texture footprint widens per unit of distance (0: none, point lookups).
+  float camera_cone_spread() const noexcept {
+    return settings_.filter_textures && !settings_.jitter ? projection_->pixel_spread() : 0.0f;
+  }
+
+  /// Traces `ray` to its first opaque hit (passing alpha cut-outs) and shades it, reading
+  /// textures over a cone that widens by `cone_spread` per unit of distance.
+  Vertex trace(RayPacket<1>& ray, std::uint64_t& count, float cone_spread = 0.0f) const {
     Vertex v;
     const vmask<1> one(true);
     for (int layer = 0; layer < max_cutout_layers; ++layer) {
@@ -256,7 +266,7 @@ class PathTracer {
       backend_->intersect(ray, hits, one);
       ++count;
       if (hits.geomID[0] == invalid_id) return v;
-      v.hit = make_surface_hit(*scene_, geometry_, ray, hits, one);
+      v.hit = make_surface_hit(*scene_, geometry_, ray, hits, one, cone_spread);
       v.parameters = surface_->shade(v.hit, one);
       if (v.parameters.opaque[0]) {
         v.found = true;
@@ -317,7 +327,7 @@ class PathTracer {
     glm::vec3 previous_position(0.0f);
     const vmask<1> one(true);
     for (int depth = 0;; ++depth) {
-      const Vertex v = trace(ray, depth == 0 ? counts.rays.primary : counts.rays.secondary);
+      const Vertex v = depth == 0 ? trace(ray, counts.rays.primary, camera_cone_spread()) : trace(ray, counts.rays.secondary);
       if (!v.found) {
         // Left the scene: the environment's light, weighted against light sampling's density
         // after a non-delta bounce (as emission found by BRDF sampling is).
