@@ -91,9 +91,9 @@ struct RenderSettings {
   /// 240 frames, 10 s at 24 frames a second, only bounds how long VPLs aimed through the openings
   /// of a view left long ago light the new one. A light that changes (moves, turns, dims) draws
   /// its VPLs with the random numbers of those it replaces, so that they move with it instead of
-  /// being replaced by other heavy light paths each frame (the image pulsed by 14% under a
-  /// circling sun, 4% so); those frames count in the same run. 0: every frame draws new VPLs with
-  /// its own numbers.
+  /// being replaced by other heavy light paths each frame (under a circling sun the image mean
+  /// varied by 14% with new numbers, by 4% with the same); those frames count in the same run.
+  /// 0: every frame draws new VPLs with its own numbers.
   int held_vpl_frames = 240;
   std::uint32_t seed = 0;         ///< Randomisation of the QMC sequences.
   int threads = 0;                ///< Worker threads; 0 means all cores.
