@@ -43,11 +43,6 @@ inline constexpr float orbit_step = 0.04f;
 /// box's luminaire under its ceiling and its boxes on the floor.
 inline constexpr float swing_amplitude = 0.05f;
 
-/// True if instance `i`'s mesh has an emissive material.
-inline bool emissive_instance(const Scene& scene, std::size_t i) {
-  return scene.material_of(scene.instances[i].mesh).emissive();
-}
-
 /// World bounds of instance `i`.
 inline Bounds instance_bounds(const Scene& scene, std::size_t i) {
   Bounds bounds;
@@ -64,7 +59,7 @@ inline int animated_instance(const Scene& scene) {
   int best = -1;
   float best_size = 0.0f;
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {
-    if (animation_detail::emissive_instance(scene, i)) continue;
+    if (scene.emits_light(scene.instances[i].mesh)) continue;
     const Bounds bounds = animation_detail::instance_bounds(scene, i);
     if (bounds.empty()) continue;
     const float size = glm::length(bounds.extent());
@@ -94,7 +89,7 @@ class Animator {
     centre_ = bounds.empty() ? glm::vec3(0.0f) : bounds.center();
     if (kind == Animation::light && initial.lights.empty()) {
       for (std::size_t i = 0; i < initial.instances.size(); ++i)
-        if (emissive_instance(initial, i)) moving_.push_back(int(i));
+        if (initial.emits_light(initial.instances[i].mesh)) moving_.push_back(int(i));
       if (moving_.empty()) throw SettingsError("--animate light: scene '" + initial.name + "' has no punctual or emissive light");
     }
     if (kind == Animation::object) {

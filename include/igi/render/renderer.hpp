@@ -175,17 +175,17 @@ class Renderer {
   /// Moves instance `instance` (takes effect at the next frame).
   void set_instance_transform(int instance, const glm::mat4& transform) {
     engine_.set_instance_transform(instance, transform);
-    note_change({.scene = true, .lights = emits_light(scene(), scene().instances[std::size_t(instance)].mesh)});
+    note_change({.scene = true, .lights = scene().emits_light(scene().instances[std::size_t(instance)].mesh)});
   }
   /// Replaces the vertex positions of mesh `mesh` (same count; takes effect at the next frame).
   void set_mesh_positions(int mesh, std::span<const glm::vec3> positions) {
     engine_.set_mesh_positions(mesh, positions);
-    note_change({.scene = true, .lights = emits_light(scene(), mesh)});
+    note_change({.scene = true, .lights = scene().emits_light(mesh)});
   }
   /// Replaces the vertices of a mesh (see TileEngine::set_mesh_vertices).
   void set_mesh_vertices(const MeshVertices& vertices) {
     engine_.set_mesh_vertices(vertices);
-    note_change({.scene = true, .lights = emits_light(scene(), vertices.mesh)});
+    note_change({.scene = true, .lights = scene().emits_light(vertices.mesh)});
   }
   /// Replaces punctual light `light` (lights are read afresh every frame).
   void set_light(int light, const PunctualLight& value) {

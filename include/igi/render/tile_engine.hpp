@@ -37,9 +37,6 @@ struct AppliedChanges {
   bool lights = false;  ///< A light: a punctual one, or an instance or mesh of an emissive material.
 };
 
-/// Whether mesh `mesh` of `scene` emits light (moving it moves a light).
-inline bool emits_light(const Scene& scene, int mesh) noexcept { return scene.material_of(mesh).emissive(); }
-
 /// Renders tiles of frames of a scene with the IGI pipeline. The scene and policies are borrowed
 /// and must outlive the engine; the backend is built and owned here. Change the scene only through
 /// the engine (so the backend follows) and only between frames.
@@ -115,13 +112,13 @@ class TileEngine {
       if (scene_->instances[std::size_t(index)].transform != transform) {
         set_instance_transform(index, transform);
         changed.scene = true;
-        changed.lights |= emits_light(*scene_, scene_->instances[std::size_t(index)].mesh);
+        changed.lights |= scene_->emits_light(scene_->instances[std::size_t(index)].mesh);
       }
     for (const MeshVertices& vertices : changes.meshes)
       if (scene_->meshes[std::size_t(vertices.mesh)].positions != vertices.positions) {
         set_mesh_vertices(vertices);
         changed.scene = true;
-        changed.lights |= emits_light(*scene_, vertices.mesh);
+        changed.lights |= scene_->emits_light(vertices.mesh);
       }
     return changed;
   }

@@ -364,9 +364,11 @@ struct Scene {
   bool has_lights() const noexcept {
     if (!lights.empty() || (environment && environment->emits())) return true;
     for (const Instance& instance : instances)
-      if (instance.mesh >= 0 && std::size_t(instance.mesh) < meshes.size() && material_of(instance.mesh).emissive()) return true;
+      if (instance.mesh >= 0 && std::size_t(instance.mesh) < meshes.size() && emits_light(instance.mesh)) return true;
     return false;
   }
+  /// Whether `mesh`'s material emits light (moving the mesh moves a light).
+  bool emits_light(int mesh) const noexcept { return material_of(mesh).emissive(); }
   /// The material of `mesh`, or a default white diffuse one.
   const Material& material_of(int mesh) const noexcept {
     // glTF's default material is white metal; a grey diffuse surface (albedo 0.8, a common
