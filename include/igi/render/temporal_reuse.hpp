@@ -5,15 +5,21 @@
 /// keeps a history of its demodulated irradiance, found in the previous frame by reprojecting the
 /// pixel's first hit with the camera's motion and kept only where the previous pixel shows the
 /// same surface (normal and tangent plane agree). A history of n frames takes the new frame with
-/// weight 1/n, n capped at RenderSettings::temporal_frames (an exponential moving average past
+/// weight 1/n, n capped at RenderSettings::temporal_frames while the camera stays (whether or not
+/// the scene changes) and at moving_frames while it moves (an exponential moving average past
 /// the cap). Glossy and mirror radiance depend on the view: they are averaged only while the
-/// camera stays where it was. After a change of the scene (lights, instances, meshes) each
-/// history is kept but first clamped (AfterSceneChange::clamp; or dropped), channel by channel, into the range the new frame shows
-/// around the pixel (its neighbourhood's lowest and highest irradiance): light that moved away
-/// or arrived is followed at once, while the history still averages away the noise wherever
-/// the change is smaller than that noise. Beside the irradiance each history averages its
+/// camera and the scene stay as they were. Beside the irradiance each history averages its
 /// luminance's square, so that its variance over the frames is known (irradiance_variance:
 /// what guides DenoisedPathTracer's filter).
+///
+/// After a change of the scene (lights, instances, meshes) each history is kept but first
+/// clamped (AfterSceneChange::clamp; or dropped), channel by channel, into the range the new
+/// frame shows around the pixel (its neighbourhood's lowest and highest irradiance): light that
+/// moved away or arrived is followed at once, while the history still averages away the noise
+/// wherever the change is smaller than that noise. A change within that range the clamp cannot
+/// see; so each history also averages the frames since the last change apart, and where that
+/// average parts from the whole history by more than their noise allows (stale), the history
+/// becomes those frames alone. A single frame is the clamp's to judge (stale_recent_frames).
 ///
 /// While the view stays still the primary rays move inside their pixels from frame to frame
 /// (pixel_jitter), and the albedo, glossy and unfiltered radiance are averaged with the
@@ -85,6 +91,18 @@ class TemporalReuse {
   /// with the light sliding every frame, frames change a third as much as without history (a
   /// quarter with 5 x 5).
   static constexpr int clamp_radius = 1;
+  /// A history that holds frames from before a scene change is stale where the average of the
+  /// frames since the change differs from it by more than this many standard deviations of that
+  /// difference (as the history's variance over its frames gives it): 3, beyond which unchanged
+  /// light falls in fewer than one pixel of 300 with normal noise.
+  static constexpr float stale_deviations = 3.0f;
+  /// Frames a history needs before its variance over them tells staleness from noise: with 4,
+  /// the estimate is within a factor of two or so of the variance most of the time.
+  static constexpr int stale_test_frames = 4;
+  /// Frames since a change before the test may find a history stale: the first frame after it
+  /// is the clamp's (alone, its noise passes the test wherever the scene changes every frame:
+  /// with 1, a block moving through the Cornell box doubled that walk's median relMSE).
+  static constexpr int stale_recent_frames = 2;
 
   /// What a history does when the scene changed since its frame.
   enum class AfterSceneChange {
@@ -134,12 +152,13 @@ class TemporalReuse {
   /// the new frame's neighbourhoods). Returns the clamp scale, ray positions and texture cone the
   /// frame is to be rendered with.
   FrameRequest begin(const Camera& camera, int width, int height, bool scene_changed) {
-    const bool same_view = has_history() && !scene_changed && width == width_ && height == height_ &&
-                           camera.camera_to_world == previous_camera_.camera_to_world &&
-                           camera.yfov == previous_camera_.yfov;
+    same_camera_ = has_history() && width == width_ && height == height_ &&
+                   camera.camera_to_world == previous_camera_.camera_to_world && camera.yfov == previous_camera_.yfov;
+    const bool same_view = same_camera_ && !scene_changed;
     if (width != width_ || height != height_ || (scene_changed && after_change_ == AfterSceneChange::drop))
       previous_projection_.reset();
     scene_changed_ = scene_changed;
+    frames_since_change_ = scene_changed ? 0 : std::min(frames_since_change_ + 1, max_temporal_frames);
     still_ = same_view ? still_ + 1 : 0;
     width_ = width;
     height_ = height;
@@ -287,6 +306,8 @@ class TemporalReuse {
     glm::vec3 normal{0.0f};      ///< Its shading normal.
     float luminance_square = 0.0f;  ///< Average of the irradiance's squared luminance (its variance's second moment).
     int length = 0;              ///< Frames in the irradiance average; 0: no hit.
+    glm::vec3 recent{0.0f};      ///< Average demodulated irradiance of the frames since the scene's last change.
+    int recent_length = 0;       ///< Frames in that average (capped as length is); 0: no hit.
   };
 
   /// A pixel's first hit and its delta lights' shadow answers, kept apart from its Sample so
@@ -318,8 +339,8 @@ class TemporalReuse {
     if (!(std::abs(u) < float(width_) + 1.0f && std::abs(v) < float(height_) + 1.0f)) return found;  // NaN too
     const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
     const float fx = u - float(x0), fy = v - float(y0);
-    float weight_sum = 0.0f, length_sum = 0.0f;
-    glm::vec3 irradiance(0.0f);
+    float weight_sum = 0.0f, length_sum = 0.0f, recent_length_sum = 0.0f;
+    glm::vec3 irradiance(0.0f), recent(0.0f);
     float luminance_square = 0.0f;
     for (int j = 0; j < 2; ++j)
       for (int i = 0; i < 2; ++i) {
@@ -332,12 +353,37 @@ class TemporalReuse {
         length_sum += weight * float(old.length);
         irradiance += weight * old.irradiance;
         luminance_square += weight * old.luminance_square;
+        recent += weight * old.recent;
+        recent_length_sum += weight * float(old.recent_length);
       }
     if (!(weight_sum > 0.0f)) return found;
     found.irradiance = irradiance / weight_sum;
     found.luminance_square = luminance_square / weight_sum;
     found.length = std::max(1, int(length_sum / weight_sum + 0.5f));
+    found.recent = recent / weight_sum;
+    found.recent_length = std::max(1, int(recent_length_sum / weight_sum + 0.5f));
     return found;
+  }
+
+  /// Sets `sample`'s irradiance average to `irradiance`, its second moment moved with it so that
+  /// the variance over its frames stays what it was.
+  static void move_mean(Sample& sample, const glm::vec3& irradiance) noexcept {
+    const float before = luminance(sample.irradiance), after = luminance(irradiance);
+    sample.irradiance = irradiance;
+    sample.luminance_square = std::max(sample.luminance_square + after * after - before * before, 0.0f);
+  }
+
+  /// Whether `history` (n frames, some from before the scene's last change) is stale: whether
+  /// `recent`, the average of the last m frames (those since the change, the new one among them),
+  /// differs from it by more than stale_deviations standard deviations. Frames of variance v
+  /// give the difference the variance v (1/m + 1/n - 2 (m - 1) / (m n)): the m - 1 frames
+  /// before the new one are in both.
+  static bool stale(const Sample& history, const glm::vec3& recent, int recent_length) noexcept {
+    const float mean = luminance(history.irradiance), n = float(history.length), m = float(recent_length);
+    const float variance = std::max(history.luminance_square - mean * mean, 0.0f);
+    const float expected = variance * (1.0f / m + 1.0f / n - 2.0f * (m - 1.0f) / (m * n));
+    const float difference = luminance(recent) - mean;
+    return difference * difference > stale_deviations * stale_deviations * expected;  // false on NaN
   }
 
   /// Pixel (x, y)'s new history `out` and radiance; its first hit was measured at (x, y) + `measured`;
@@ -366,27 +412,39 @@ class TemporalReuse {
         history = *same_pixel;
       else if (has_history())
         history = reproject(out.position, out.normal, layers.depth);
-      if (range && history.length > 0) {
-        // The clamp moves the history's mean; its second moment moves with it, so that the
-        // variance over its frames stays what it was.
-        const float before = luminance(history.irradiance);
-        history.irradiance = glm::clamp(history.irradiance, range->lowest, range->highest);
-        const float after = luminance(history.irradiance);
-        history.luminance_square = std::max(history.luminance_square + after * after - before * before, 0.0f);
-      }
-      const int cap = still ? frames_ : std::min(frames_, moving_frames);
+      if (range && history.length > 0) move_mean(history, glm::clamp(history.irradiance, range->lowest, range->highest));
+      const int cap = same_camera_ ? frames_ : std::min(frames_, moving_frames);
       out.length = std::min(history.length + 1, cap);
       const float weight = 1.0f / float(out.length);
-      out.irradiance = history.length > 0 ? history.irradiance + (layers.irradiance - history.irradiance) * weight
-                                          : layers.irradiance;
       const float brightness = luminance(layers.irradiance), square = brightness * brightness;
-      out.luminance_square =
-          history.length > 0 ? history.luminance_square + (square - history.luminance_square) * weight : square;
+      // The frames since the scene's last change, averaged apart (the first frame after it starts them afresh).
+      out.recent_length = frames_since_change_ == 0 || history.recent_length == 0
+                              ? 1
+                              : std::min(history.recent_length + 1, cap);
+      out.recent = out.recent_length == 1 ? layers.irradiance
+                                          : history.recent + (layers.irradiance - history.recent) / float(out.recent_length);
+      // Only a history holding frames from before the change (more than those since) can be
+      // stale; one that is takes the frames since instead (the light's noise did not change
+      // with the scene: its variance stays).
+      if (out.recent_length >= stale_recent_frames && out.recent_length < out.length &&
+          history.length >= stale_test_frames && stale(history, out.recent, out.recent_length)) {
+        out.luminance_square = history.luminance_square;
+        out.irradiance = history.irradiance;
+        move_mean(out, out.recent);
+        out.length = out.recent_length;
+      } else {
+        out.irradiance = history.length > 0 ? history.irradiance + (layers.irradiance - history.irradiance) * weight
+                                            : layers.irradiance;
+        out.luminance_square =
+            history.length > 0 ? history.luminance_square + (square - history.luminance_square) * weight : square;
+      }
     } else if (same_pixel && same_pixel->length > 0) {
       // A ray that missed where this pixel's earlier rays hit: their surface's history stays.
       out.irradiance = same_pixel->irradiance;
       out.luminance_square = same_pixel->luminance_square;
       out.length = same_pixel->length;
+      out.recent = same_pixel->recent;
+      out.recent_length = same_pixel->recent_length;
       out.position = same_pixel->position;
       out.normal = same_pixel->normal;
     }
@@ -401,7 +459,9 @@ class TemporalReuse {
   int width_ = 0;
   int height_ = 0;
   int still_ = 0;
+  bool same_camera_ = false;  ///< Whether the frame begun sees through the previous frame's camera.
   bool scene_changed_ = false;  ///< Whether the frame begun follows a change of the scene.
+  int frames_since_change_ = max_temporal_frames;  ///< Frames begun since the scene's last change (none: the cap).
   Camera previous_camera_;
   std::vector<Sample> previous_;  ///< The last frame's histories, row-major.
   std::vector<Sample> current_;   ///< The frame being accumulated (kept to reuse its memory).
