@@ -158,7 +158,6 @@ class TemporalReuse {
     if (width != width_ || height != height_ || (scene_changed && after_change_ == AfterSceneChange::drop))
       previous_projection_.reset();
     scene_changed_ = scene_changed;
-    frames_since_change_ = scene_changed ? 0 : std::min(frames_since_change_ + 1, max_temporal_frames);
     still_ = same_view ? still_ + 1 : 0;
     width_ = width;
     height_ = height;
@@ -418,7 +417,7 @@ class TemporalReuse {
       const float weight = 1.0f / float(out.length);
       const float brightness = luminance(layers.irradiance), square = brightness * brightness;
       // The frames since the scene's last change, averaged apart (the first frame after it starts them afresh).
-      out.recent_length = frames_since_change_ == 0 || history.recent_length == 0
+      out.recent_length = scene_changed_ || history.recent_length == 0
                               ? 1
                               : std::min(history.recent_length + 1, cap);
       out.recent = out.recent_length == 1 ? layers.irradiance
@@ -461,7 +460,6 @@ class TemporalReuse {
   int still_ = 0;
   bool same_camera_ = false;  ///< Whether the frame begun sees through the previous frame's camera.
   bool scene_changed_ = false;  ///< Whether the frame begun follows a change of the scene.
-  int frames_since_change_ = max_temporal_frames;  ///< Frames begun since the scene's last change (none: the cap).
   Camera previous_camera_;
   std::vector<Sample> previous_;  ///< The last frame's histories, row-major.
   std::vector<Sample> current_;   ///< The frame being accumulated (kept to reuse its memory).
