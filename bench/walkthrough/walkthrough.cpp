@@ -152,6 +152,8 @@ struct Method {
   float roulette = RenderSettings{}.shadow_roulette;   ///< --roulette (IGI only).
   int compensate = RenderSettings{}.compensation_rays; ///< --compensate (IGI only).
   int hold = RenderSettings{}.held_vpl_frames;         ///< --hold-vpls (IGI only).
+  float clamp = RenderSettings{}.clamp_distance;      ///< --clamp (IGI only; < 0: automatic).
+  int interleave = RenderSettings{}.interleave;        ///< --interleave (IGI only).
   bool filter_textures = RenderSettings{}.filter_textures;  ///< Camera rays read textures at their footprint (IGI only; --point-textures turns it off).
 };
 
@@ -173,7 +175,8 @@ const std::vector<Method> all_methods = {
     {"default 1 VPL", "qmc", default_temporal_frames, false, RenderSettings{}.portal_share, 1}};
 
 /// A method given by its settings: "custom" and then any of vpls=M, sampler=qmc|importance,
-/// temporal=FRAMES, portal-share=SHARE, roulette=FRACTION, compensate=RAYS, hold=FRAMES and textures=filtered|point, separated by
+/// temporal=FRAMES, portal-share=SHARE, roulette=FRACTION, compensate=RAYS, hold=FRAMES, clamp=METRES,
+/// interleave=S and textures=filtered|point, separated by
 /// spaces; unnamed settings are the default method's. Throws UsageError naming a bad one.
 Method custom_method(const std::string& spec) {
   Method method = all_methods.front();
@@ -193,6 +196,8 @@ Method custom_method(const std::string& spec) {
       if (key == "roulette") method.roulette = std::stof(value, &used);
       if (key == "compensate") method.compensate = std::stoi(value, &used);
       if (key == "hold") method.hold = std::stoi(value, &used);
+      if (key == "clamp") method.clamp = std::stof(value, &used);
+      if (key == "interleave") method.interleave = std::stoi(value, &used);
       if (key == "textures" && (value == "filtered" || value == "point")) {
         method.filter_textures = value == "filtered";
         used = value.size();
@@ -207,7 +212,7 @@ Method custom_method(const std::string& spec) {
     if (used == 0 || used != value.size())
       throw UsageError("--methods: '" + word + "' in '" + spec +
                        "' is not one of vpls=M, sampler=qmc|importance, temporal=FRAMES, portal-share=SHARE, "
-                       "roulette=FRACTION, compensate=RAYS, hold=FRAMES, textures=filtered|point");
+                       "roulette=FRACTION, compensate=RAYS, hold=FRAMES, clamp=METRES, interleave=S, textures=filtered|point");
   }
   return method;
 }
@@ -439,6 +444,8 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
       settings.shadow_roulette = method.roulette;
       settings.compensation_rays = method.compensate;
       settings.held_vpl_frames = method.hold;
+      settings.clamp_distance = method.clamp;
+      settings.interleave = method.interleave;
       settings.filter_textures = method.filter_textures;
       sampler.emplace(method.vpl_sampler);
       renderer.emplace(scene, settings, surface, brdf, *sampler, filter);
@@ -501,7 +508,7 @@ int main(int argc, char** argv) {
   command_line.add("--walks", options.walks, "walks to measure, comma-separated (default: all)");
   command_line.add("--methods", options.methods,
                    "methods to measure, comma-separated (default: all); 'custom vpls=4 roulette=0.5' is the default "
-                   "method with the settings named (vpls, sampler, temporal, portal-share, roulette, compensate, hold)");
+                   "method with the settings named (vpls, sampler, temporal, portal-share, roulette, compensate, hold, clamp, interleave, textures)");
   command_line.add("--size", options.size, "image size");
   command_line.add("--frames", options.frames, "frames per walk").range(2, 100000);
   command_line.add("--fps", options.fps, "frames per second along the camera paths");

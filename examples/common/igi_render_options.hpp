@@ -1,13 +1,16 @@
 #pragma once
 // igi-render's whole command line: the options it shares with igi-cluster (render_options.hpp)
 // plus its own (animation, temporal reuse, the file's animations, profiling), their checks and
-// the --stats json fields of one IGI frame. The Python module (python/) builds its keyword
+// the --stats json fields of IGI frames. The Python module (python/) builds its keyword
 // arguments from this same table, so every igi-render option is one of its keywords by name.
 
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "common/render_options.hpp"
 #include "igi/render/renderer.hpp"
@@ -78,11 +81,29 @@ inline StatsJson frame_time_statistics(const IgiRenderOptions& options, double m
   return stats;
 }
 
-/// The --stats json fields of an IGI frame beside the frame time: the sampling settings under the
-/// names `filter` and `vpl_sampler` chose, the clamp and the rest of the settings, and what
-/// `frame` (the last one rendered) cost; stage_cpu_ms is null unless the options profile.
+/// The median over `frames` of `value(frame)` (0 for no frames).
+template <class Value>
+double median_over(std::span<const FrameStatistics> frames, Value&& value) {
+  std::vector<double> values;
+  values.reserve(frames.size());
+  for (const FrameStatistics& frame : frames) values.push_back(double(value(frame)));
+  return median(std::move(values));
+}
+
+/// Each count's median over `frames`, so that rays per frame go with the frames' median time.
+inline RayCounts median_rays(std::span<const FrameStatistics> frames) {
+  const auto of = [&](std::uint64_t RayCounts::*count) {
+    return std::uint64_t(std::llround(median_over(frames, [&](const FrameStatistics& f) { return f.rays.*count; })));
+  };
+  return {.primary = of(&RayCounts::primary), .shadow = of(&RayCounts::shadow), .secondary = of(&RayCounts::secondary)};
+}
+
+/// The --stats json fields of IGI `frames` beside the frame time: the sampling settings under the
+/// names `filter` and `vpl_sampler` chose, the clamp and the rest of the settings, and what the
+/// frames cost, each time and count the median over them (as ms_per_frame is; a view that moves
+/// changes them from frame to frame); stage_cpu_ms is null unless the options profile.
 inline StatsJson igi_frame_statistics(const IgiRenderOptions& options, const std::string& filter,
-                                      const std::string& vpl_sampler, const FrameStatistics& frame) {
+                                      const std::string& vpl_sampler, std::span<const FrameStatistics> frames) {
   StatsJson stats = sampling_statistics(options.settings, filter, vpl_sampler);
   stats.set("clamp", options.settings.clamp_distance)
       .set("compensation_rays", options.settings.compensation_rays)
@@ -90,13 +111,22 @@ inline StatsJson igi_frame_statistics(const IgiRenderOptions& options, const std
       .set("max_bounces", options.settings.max_bounces)
       .set("temporal_frames", options.settings.temporal_frames)
       .set("reuse_shadows", options.settings.reuse_shadows && options.settings.temporal_frames > 0)
-      .set("vpls_per_frame", frame.vpls)
-      .set("vpl_ms", frame.vpl_milliseconds)
-      .set("temporal_ms", frame.temporal_milliseconds);
+      .set("vpls_per_frame", int(std::lround(median_over(frames, [](const FrameStatistics& f) { return f.vpls; }))))
+      .set("vpl_ms", median_over(frames, [](const FrameStatistics& f) { return f.vpl_milliseconds; }))
+      .set("temporal_ms", median_over(frames, [](const FrameStatistics& f) { return f.temporal_milliseconds; }));
   if (options.profile) {
     StatsJson stages;
-    frame.stages.each([&](const char* name, std::uint64_t ns) { stages.set(name, double(ns) * 1e-6); });
-    stages.set("total", double(frame.stages.total()) * 1e-6);
+    StageTimes{}.each([&](const char* name, std::uint64_t) {
+      const std::string stage = name;
+      stages.set(name, 1e-6 * median_over(frames, [&](const FrameStatistics& f) {
+                         std::uint64_t nanoseconds = 0;
+                         f.stages.each([&](const char* other, std::uint64_t ns) {
+                           if (other == stage) nanoseconds = ns;
+                         });
+                         return nanoseconds;
+                       }));
+    });
+    stages.set("total", 1e-6 * median_over(frames, [](const FrameStatistics& f) { return f.stages.total(); }));
     stats.set("stage_cpu_ms", stages);
   } else {
     stats.set("stage_cpu_ms", nullptr);

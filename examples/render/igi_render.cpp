@@ -84,6 +84,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
   if (options.plays_sequence()) playback.emplace(scene, options, chosen_camera_index(scene, options));
   const FrameNames names(options.output, options.frames);
   std::vector<double> milliseconds, sampling, deforming, applying, bvh_update;
+  std::vector<igi::FrameStatistics> statistics;
   igi::Frame frame;
   ProgressBar progress(std::uint64_t(options.frames), "frames");
   for (int f = 0; f < options.frames; ++f) {
@@ -101,6 +102,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
     frame = renderer.render(view, index);
     if (stop_requested()) return stopped("igi-render");
     milliseconds.push_back(frame.statistics.milliseconds);
+    statistics.push_back(frame.statistics);
     sampling.push_back(times.sampling_milliseconds);
     deforming.push_back(times.deforming_milliseconds);
     bvh_update.push_back(frame.statistics.commit_milliseconds);
@@ -115,7 +117,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
   const std::string written = sequence ? names(0).string() + " .. " + names(options.frames - 1).string() + " (" +
                                              std::to_string(options.frames) + " frames)"
                                        : options.output;
-  StatsJson extra = igi_frame_statistics(options, filter.chosen(), sampler.chosen(), frame.statistics);
+  StatsJson extra = igi_frame_statistics(options, filter.chosen(), sampler.chosen(), statistics);
   if (options.play) {
     // Medians over the frames, as the frame time: sampling channels and nodes, skinning and
     // morphing vertices (these two before the frame), handing them to the scene and backend (also
@@ -128,7 +130,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
         .set("play_fps", options.fps);
   }
   if (!options.camera_path.empty()) extra.set("camera_path", options.camera_path);
-  report(scene, options, B::name(), B::width, median(milliseconds), frame.statistics.rays, written, extra);
+  report(scene, options, B::name(), B::width, median(milliseconds), median_rays(statistics), written, extra);
   if (options.play && options.stats != "json")
     std::printf("animation per frame (median): sampling %.3f ms, skinning %.3f ms, scene update %.3f ms, BVH update %.3f ms "
                 "(the last within the frame time)\n",

@@ -59,7 +59,8 @@ class IgiSession final : public RenderSession {
     out.statistics = programs::run_statistics(*scene_, options_, B::name(), B::width, options_.animate)
                          .update(programs::frame_time_statistics(options_, frame.statistics.milliseconds,
                                                                  frame.statistics.rays, reported_threads(options_)))
-                         .update(programs::igi_frame_statistics(options_, filter_.chosen(), sampler_.chosen(), frame.statistics))
+                         .update(programs::igi_frame_statistics(options_, filter_.chosen(), sampler_.chosen(),
+                                                                 std::span<const FrameStatistics>(&frame.statistics, 1)))
                          .dump();
     return out;
   }

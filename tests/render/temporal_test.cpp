@@ -82,6 +82,50 @@ TEST_CASE("temporal reuse: the projection inverts the primary rays", "[render][t
   CHECK_FALSE(projection.project(projection.origin() - 2.0f * projection.direction(20.0f, 20.0f)).has_value());
 }
 
+TEST_CASE("temporal reuse: a still camera's pixel keeps its own history while it shows the same surface",
+          "[render][temporal]") {
+  // A camera at the origin looking down -z at a wall 5 m away, 16 x 12 pixels; in the second frame
+  // something stands 2 m away in pixel (5, 5), in the third it has gone. Every frame follows a
+  // change of the scene, so the histories are clamped (the wall's light is the same everywhere,
+  // so the clamp keeps it) and each pixel's history is its own, where it shows the same surface.
+  constexpr int width = 16, height = 12;
+  Camera camera;
+  const PinholeProjection projection(camera, width, height);
+  const auto frame = [&](bool object) {
+    std::vector<PixelLayers> layers(std::size_t(width) * height);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        PixelLayers& pixel = layers[std::size_t(y) * width + std::size_t(x)];
+        const glm::vec3 direction = projection.direction(float(x) + 0.5f, float(y) + 0.5f);
+        const bool in_front = object && x == 5 && y == 5;
+        pixel.hit = true;
+        pixel.normal = glm::vec3(0.0f, 0.0f, 1.0f);
+        pixel.depth = (in_front ? 2.0f : 5.0f) / -direction.z;
+        pixel.irradiance = glm::vec3(in_front ? 4.0f : 1.0f);
+        pixel.albedo = glm::vec3(0.5f);
+      }
+    return layers;
+  };
+  TemporalReuse temporal(32);
+  Image hdr(width, height);
+  const auto render = [&](bool object) {
+    temporal.begin(camera, width, height, true);
+    temporal.accumulate(projection, 1, frame(object), hdr);
+  };
+  render(false);
+  render(true);
+  CHECK(temporal.history_length(4, 5) == 2);  // the wall beside it: its own history
+  CHECK(temporal.history_length(5, 5) == 1);  // the object: no history of it
+  CHECK(temporal.averages(5, 5).irradiance.x == 4.0f);
+  render(false);
+  CHECK(temporal.history_length(4, 5) == 3);
+  CHECK(temporal.history_length(0, 0) == 3);
+  // Where the object stood the wall starts afresh: neither the object's history nor the light
+  // its neighbours saw before it moved.
+  CHECK(temporal.history_length(5, 5) == 1);
+  CHECK(temporal.averages(5, 5).irradiance.x == 1.0f);
+}
+
 TEST_CASE("temporal reuse: a still view averages its frames", "[render][temporal]") {
   // With the clamp off its shrinking changes nothing, so frame n of a still view is, per pixel,
   // the mean over frames 0..n (each rendered alone, its rays where pixel_jitter puts them) of

@@ -75,6 +75,12 @@ struct PinholeProjection {
     right_step_ = rotation * glm::vec3(2.0f * half_width / float(width), 0.0f, 0.0f);
     down_step_ = rotation * glm::vec3(0.0f, -2.0f * half_height / float(height), 0.0f);
     forward_ = rotation * glm::vec3(0.0f, 0.0f, -1.0f);
+    // project()'s constants, so that it divides once.
+    plane_distance_ = glm::dot(top_left_, forward_);
+    right_per_pixel_ = right_step_ / glm::dot(right_step_, right_step_);
+    down_per_pixel_ = down_step_ / glm::dot(down_step_, down_step_);
+    left_edge_ = glm::dot(top_left_, right_per_pixel_);
+    top_edge_ = glm::dot(top_left_, down_per_pixel_);
   }
 
   /// World-space eye position, the origin of every primary ray.
@@ -95,13 +101,14 @@ struct PinholeProjection {
   /// inverse of direction(); empty for a point not in front of the eye. They may lie outside the image.
   std::optional<glm::vec2> project(const glm::vec3& point) const noexcept {
     const glm::vec3 offset = point - eye_;
-    // offset = t (top_left_ + px right_step_ + py down_step_), and only top_left_ has a component along forward_.
-    const float t = glm::dot(offset, forward_) / glm::dot(top_left_, forward_);
-    if (!(t > 0.0f)) return std::nullopt;
-    const glm::vec3 on_plane = offset / t - top_left_;
-    // right_step_ and down_step_ are orthogonal to each other and to forward_ (a rigid camera).
-    return glm::vec2(glm::dot(on_plane, right_step_) / glm::dot(right_step_, right_step_),
-                     glm::dot(on_plane, down_step_) / glm::dot(down_step_, down_step_));
+    // offset = t (top_left_ + px right_step_ + py down_step_), and only top_left_ has a component
+    // along forward_; right_step_ and down_step_ are orthogonal to each other and to forward_ (a
+    // rigid camera), so px = dot(offset / t - top_left_, right_step_) / |right_step_|^2, and so for py.
+    const float along = glm::dot(offset, forward_);
+    if (!(along > 0.0f)) return std::nullopt;  // t > 0, as plane_distance_ > 0; NaN too
+    const float inverse_t = plane_distance_ / along;
+    return glm::vec2(glm::dot(offset, right_per_pixel_) * inverse_t - left_edge_,
+                     glm::dot(offset, down_per_pixel_) * inverse_t - top_edge_);
   }
 
   /// The side of one pixel on the image plane at distance 1 (2 tan(yfov / 2) / height): how much
@@ -121,6 +128,11 @@ struct PinholeProjection {
   glm::vec3 right_step_;
   glm::vec3 down_step_;
   glm::vec3 forward_;  ///< Viewing direction (the camera's -Z).
+  float plane_distance_;        ///< top_left_'s component along forward_ (1 up to rounding).
+  glm::vec3 right_per_pixel_;   ///< right_step_ / |right_step_|^2: a world offset's pixels to the right, at t = 1.
+  glm::vec3 down_per_pixel_;    ///< down_step_ / |down_step_|^2.
+  float left_edge_;             ///< top_left_'s pixels to the right (negative: it is the left edge).
+  float top_edge_;              ///< top_left_'s pixels down.
 };
 
 }  // namespace igi
