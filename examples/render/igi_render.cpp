@@ -83,7 +83,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
   std::optional<Playback> playback;
   if (options.plays_sequence()) playback.emplace(scene, options, chosen_camera_index(scene, options));
   const FrameNames names(options.output, options.frames);
-  std::vector<double> milliseconds, sampling, deforming, applying, bvh_update;
+  std::vector<double> sampling, deforming, applying;
   std::vector<igi::FrameStatistics> statistics;
   igi::Frame frame;
   ProgressBar progress(std::uint64_t(options.frames), "frames");
@@ -101,11 +101,9 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
     }
     frame = renderer.render(view, index);
     if (stop_requested()) return stopped("igi-render");
-    milliseconds.push_back(frame.statistics.milliseconds);
     statistics.push_back(frame.statistics);
     sampling.push_back(times.sampling_milliseconds);
     deforming.push_back(times.deforming_milliseconds);
-    bvh_update.push_back(frame.statistics.commit_milliseconds);
     if (sequence) write_output(names(f), frame.hdr, frame.rgb8);
     if (sequence && options.aov) write_aovs(names(f), renderer.layers(), frame.width, frame.height);
     progress.advance();
@@ -118,6 +116,7 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
                                              std::to_string(options.frames) + " frames)"
                                        : options.output;
   StatsJson extra = igi_frame_statistics(options, filter.chosen(), sampler.chosen(), statistics);
+  const double bvh_update = median_over(statistics, [](const igi::FrameStatistics& f) { return f.commit_milliseconds; });
   if (options.play) {
     // Medians over the frames, as the frame time: sampling channels and nodes, skinning and
     // morphing vertices (these two before the frame), handing them to the scene and backend (also
@@ -125,16 +124,18 @@ int run_igi(igi::Scene& scene, const igi::Camera& camera, const Options& options
     extra.set("animation_sampling_ms", median(sampling))
         .set("skinning_ms", median(deforming))
         .set("scene_update_ms", median(applying))
-        .set("bvh_update_ms", median(bvh_update))
+        .set("bvh_update_ms", bvh_update)
         .set("animation", playback->player()->animation().name)
         .set("play_fps", options.fps);
   }
   if (!options.camera_path.empty()) extra.set("camera_path", options.camera_path);
-  report(scene, options, B::name(), B::width, median(milliseconds), median_rays(statistics), written, extra);
+  report(scene, options, B::name(), B::width,
+         median_over(statistics, [](const igi::FrameStatistics& f) { return f.milliseconds; }), median_rays(statistics),
+         written, extra);
   if (options.play && options.stats != "json")
     std::printf("animation per frame (median): sampling %.3f ms, skinning %.3f ms, scene update %.3f ms, BVH update %.3f ms "
                 "(the last within the frame time)\n",
-                median(sampling), median(deforming), median(applying), median(bvh_update));
+                median(sampling), median(deforming), median(applying), bvh_update);
   return 0;
 }
 
