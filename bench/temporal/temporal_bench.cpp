@@ -4,6 +4,9 @@
 //   temporal/still      the view of the frame before: each pixel averages its own history
 //   temporal/moving     the camera moved (2 cm and 0.6 degrees a frame): each hit is reprojected
 //                       into the previous frame and its history read bilinearly from four pixels
+//   temporal/moving_held  moving, the frames cycling through 4 held draws of VPLs
+//                       (RenderSettings::held_vpl_sets): each history also reprojects and
+//                       averages each draw's own
 //   temporal/changed    the camera moved and the scene changed: the histories are also clamped
 //                       into each pixel's 3 x 3 neighbourhood range and tested for staleness
 //   temporal/still_changed  the camera stayed and the scene changed: each pixel's own history,
@@ -87,7 +90,7 @@ void room_layers(const Camera& camera, int frame, glm::vec2 jitter, std::vector<
 }
 
 /// Accumulates frames of the sequence, each timed after `warm_up` untimed ones.
-void temporal_benchmark(benchmark::State& state, bool moving, bool changed) {
+void temporal_benchmark(benchmark::State& state, bool moving, bool changed, int held_draws = 1) {
   const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
   constexpr int warm_up = 8;  // TemporalReuse::moving_frames: the moving histories full
   TemporalReuse reuse(32);
@@ -100,7 +103,8 @@ void temporal_benchmark(benchmark::State& state, bool moving, bool changed) {
     room_layers(camera, frame, request.pixel_jitter, layers);
     const PinholeProjection projection(camera, width, height);
     if (timed) state.ResumeTiming();
-    reuse.accumulate(projection, 1, layers, hdr);
+    const HeldVplDraw held = held_draws > 1 ? HeldVplDraw{.set = frame % held_draws, .sets = held_draws} : HeldVplDraw{};
+    reuse.accumulate(projection, 1, layers, hdr, {}, held);
     if (timed) state.PauseTiming();
     ++frame;
   };
@@ -120,6 +124,7 @@ void temporal_benchmark(benchmark::State& state, bool moving, bool changed) {
 
 BENCHMARK_CAPTURE(temporal_benchmark, still, false, false)->Name("temporal/still")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(temporal_benchmark, moving, true, false)->Name("temporal/moving")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(temporal_benchmark, moving_held, true, false, 4)->Name("temporal/moving_held")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(temporal_benchmark, changed, true, true)->Name("temporal/changed")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(temporal_benchmark, still_changed, false, true)->Name("temporal/still_changed")->Unit(benchmark::kMillisecond);
 

@@ -152,6 +152,7 @@ struct Method {
   float roulette = RenderSettings{}.shadow_roulette;   ///< --roulette (IGI only).
   int compensate = RenderSettings{}.compensation_rays; ///< --compensate (IGI only).
   int hold = RenderSettings{}.held_vpl_frames;         ///< --hold-vpls (IGI only).
+  int held_sets = RenderSettings{}.held_vpl_sets;      ///< --held-vpl-sets (IGI only).
   float clamp = RenderSettings{}.clamp_distance;      ///< --clamp (IGI only; < 0: automatic).
   int interleave = RenderSettings{}.interleave;        ///< --interleave (IGI only).
   bool filter_textures = RenderSettings{}.filter_textures;  ///< Camera rays read textures at their footprint (IGI only; --point-textures turns it off).
@@ -175,8 +176,8 @@ const std::vector<Method> all_methods = {
     {"default 1 VPL", "qmc", default_temporal_frames, false, RenderSettings{}.portal_share, 1}};
 
 /// A method given by its settings: "custom" and then any of vpls=M, sampler=qmc|importance,
-/// temporal=FRAMES, portal-share=SHARE, roulette=FRACTION, compensate=RAYS, hold=FRAMES, clamp=METRES,
-/// interleave=S and textures=filtered|point, separated by
+/// temporal=FRAMES, portal-share=SHARE, roulette=FRACTION, compensate=RAYS, hold=FRAMES, sets=DRAWS,
+/// clamp=METRES, interleave=S and textures=filtered|point, separated by
 /// spaces; unnamed settings are the default method's. Throws UsageError naming a bad one.
 Method custom_method(const std::string& spec) {
   Method method = all_methods.front();
@@ -196,6 +197,7 @@ Method custom_method(const std::string& spec) {
       if (key == "roulette") method.roulette = std::stof(value, &used);
       if (key == "compensate") method.compensate = std::stoi(value, &used);
       if (key == "hold") method.hold = std::stoi(value, &used);
+      if (key == "sets") method.held_sets = std::stoi(value, &used);
       if (key == "clamp") method.clamp = std::stof(value, &used);
       if (key == "interleave") method.interleave = std::stoi(value, &used);
       if (key == "textures" && (value == "filtered" || value == "point")) {
@@ -212,7 +214,8 @@ Method custom_method(const std::string& spec) {
     if (used == 0 || used != value.size())
       throw UsageError("--methods: '" + word + "' in '" + spec +
                        "' is not one of vpls=M, sampler=qmc|importance, temporal=FRAMES, portal-share=SHARE, "
-                       "roulette=FRACTION, compensate=RAYS, hold=FRAMES, clamp=METRES, interleave=S, textures=filtered|point");
+                       "roulette=FRACTION, compensate=RAYS, hold=FRAMES, sets=DRAWS, clamp=METRES, interleave=S, "
+                       "textures=filtered|point");
   }
   return method;
 }
@@ -444,6 +447,7 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
       settings.shadow_roulette = method.roulette;
       settings.compensation_rays = method.compensate;
       settings.held_vpl_frames = method.hold;
+      settings.held_vpl_sets = method.held_sets;
       settings.clamp_distance = method.clamp;
       settings.interleave = method.interleave;
       settings.filter_textures = method.filter_textures;
@@ -508,7 +512,7 @@ int main(int argc, char** argv) {
   command_line.add("--walks", options.walks, "walks to measure, comma-separated (default: all)");
   command_line.add("--methods", options.methods,
                    "methods to measure, comma-separated (default: all); 'custom vpls=4 roulette=0.5' is the default "
-                   "method with the settings named (vpls, sampler, temporal, portal-share, roulette, compensate, hold, clamp, interleave, textures)");
+                   "method with the settings named (vpls, sampler, temporal, portal-share, roulette, compensate, hold, sets, clamp, interleave, textures)");
   command_line.add("--size", options.size, "image size");
   command_line.add("--frames", options.frames, "frames per walk").range(2, 100000);
   command_line.add("--fps", options.fps, "frames per second along the camera paths");

@@ -146,11 +146,17 @@ void add_temporal_option(CommandLine& command_line, std::optional<int>& temporal
                     "every frame (default: a first hit that shows the surface the previous frame showed around it "
                     "takes that frame's answers where they agree, and traces them every 8th frame)");
   command_line.add("--hold-vpls", settings.held_vpl_frames,
-                   "with temporal reuse, while the camera moves through an unchanged scene each frame keeps the "
-                   "previous frame's VPLs, for up to this many frames in a row, so the image's brightness stays "
-                   "steady, and a light that changes draws its VPLs with the previous ones' random numbers, so "
+                   "with temporal reuse, while the camera moves through an unchanged scene the frames keep VPLs "
+                   "drawn before them (--held-vpl-sets draws, one a frame), for up to this many frames in a row, so "
+                   "the image's brightness stays steady, and a light that changes draws its VPLs with the previous ones' random numbers, so "
                    "they move with it; a still view or a moved object draws new ones (0: new VPLs every frame)")
       .range(0, max_held_vpl_frames);
+  command_line.add("--held-vpl-sets", settings.held_vpl_sets,
+                   "with held VPLs, how many draws of them the moving frames cycle through, one a frame; each "
+                   "pixel averages each draw apart and shows their mean, so the view holds all their light paths "
+                   "without changing from frame to frame as they come round (1: the previous frame's alone)")
+      .show_default()
+      .range(1, max_held_vpl_sets);
 }
 
 void add_filter_options(CommandLine& command_line, std::string& filter, RenderSettings& settings) {

@@ -147,9 +147,12 @@ def test_a_walk_along_a_camera_path_equals_igi_render(tmp_path):
     renderer = igi.Renderer(window, **{k: v for k, v in options.items() if k != "frames"})
     frames = [renderer.render(frame=i).hdr.copy() for i in range(3)]
     igi_render(tmp_path, ["--builtin", "window"], options, output="walk.pfm")
+    # Up to float rounding: the module and igi-render are compiled apart, and GCC may fuse
+    # multiplies and adds differently in each as it inlines, so a frame can differ in its last bits
+    # (frames 0 and 1 by up to 2.8e-6 relative on an AMD EPYC with AVX2, frame 2 not at all).
     for i, hdr in enumerate(frames):
-        assert np.array_equal(hdr, read_pfm(tmp_path / f"walk_{i:04d}.pfm")), f"frame {i}"
-    assert not np.array_equal(frames[0], frames[2])  # the view moved along the path
+        assert np.allclose(hdr, read_pfm(tmp_path / f"walk_{i:04d}.pfm"), rtol=1e-5, atol=1e-7), f"frame {i}"
+    assert not np.allclose(frames[0], frames[2], rtol=1e-3)  # the view moved along the path
 
 
 @needs_igi_render

@@ -2,6 +2,8 @@
 // composed per pixel, not filtered: it is the same in every interleaving set, so the filter has
 // no noise to take out of it and would only spread its shadow edges.
 
+#include <tuple>
+
 #include <catch2/catch.hpp>
 
 #include "igi/filters/atrous_filter.hpp"
@@ -140,11 +142,14 @@ TEST_CASE("delta lights: composed unfiltered, the same image on every backend an
   s.threads = 1;
   const Frame reference = render_once<EmbreeBackend<16>>(scene, s);
   REQUIRE(all_finite(reference));
-  // 1e-5 relative: what packets of other widths and the reference backend's own intersection differ by.
-  for (const auto& [frame, what] : {std::pair{render_once<EmbreeBackend<4>>(scene, s), "embree 4"},
-                                    std::pair{render_once<EmbreeBackend<8>>(scene, s), "embree 8"},
-                                    std::pair{render_once<ReferenceBackend<8>>(scene, s), "reference 8"}}) {
+  // Packets of other widths differ by float rounding, within 1e-5 relative. The reference
+  // backend's own triangle test puts hit points a rounding away from Embree's, which the 1/d^2 of
+  // VPLs near the wall amplifies: 1.2e-5 relative in two pixels on an AMD EPYC (AVX2), under 1e-5
+  // on the Intel machines; 3e-5 leaves room for that and still fails on any shading difference.
+  for (const auto& [frame, what, relative] : {std::tuple{render_once<EmbreeBackend<4>>(scene, s), "embree 4", 1e-5f},
+                                              std::tuple{render_once<EmbreeBackend<8>>(scene, s), "embree 8", 1e-5f},
+                                              std::tuple{render_once<ReferenceBackend<8>>(scene, s), "reference 8", 3e-5f}}) {
     INFO(what);
-    CHECK(differing_pixels(reference, frame, 1e-5f) == 0);
+    CHECK(differing_pixels(reference, frame, relative) == 0);
   }
 }

@@ -126,6 +126,63 @@ TEST_CASE("temporal reuse: a still camera's pixel keeps its own history while it
   CHECK(temporal.averages(5, 5).irradiance.x == 1.0f);
 }
 
+TEST_CASE("temporal reuse: a pixel averages each held draw of VPLs apart and shows the mean of the draws",
+          "[render][temporal]") {
+  // A wall 5 m before a camera that slides along it 1 mm a frame, 16 x 12 pixels; the frames
+  // cycle through three draws of VPLs, each of which lights the wall with a light of its own
+  // (1, 2 and 6: the draws' few heavy light paths differ). Averaged apart, the draws' histories
+  // reach their own light and the pixel shows their mean, 3, unchanged from frame to frame; one
+  // history of all frames keeps swinging as each draw comes round.
+  constexpr int width = 16, height = 12, draws = 3, frames = 48;
+  constexpr float light[draws] = {1.0f, 2.0f, 6.0f};
+  const auto run = [&](bool apart) {
+    TemporalReuse temporal(32);
+    Image hdr(width, height);
+    std::vector<float> centre;  // pixel (8, 6)'s irradiance frame by frame
+    for (int frame = 0; frame < frames; ++frame) {
+      Camera camera;
+      camera.camera_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(0.001f * float(frame), 0.0f, 0.0f));
+      const PinholeProjection projection(camera, width, height);
+      std::vector<PixelLayers> layers(std::size_t(width) * height);
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+          PixelLayers& pixel = layers[std::size_t(y) * width + std::size_t(x)];
+          pixel.hit = true;
+          pixel.normal = glm::vec3(0.0f, 0.0f, 1.0f);
+          pixel.depth = 5.0f / -projection.direction(float(x) + 0.5f, float(y) + 0.5f).z;
+          pixel.irradiance = glm::vec3(light[frame % draws]);
+          pixel.albedo = glm::vec3(1.0f);
+        }
+      temporal.begin(camera, width, height, false);
+      // The first frame draws its own VPLs; the run that follows takes them as its first draw.
+      const HeldVplDraw held = apart && frame > 0 ? HeldVplDraw{.set = frame % draws, .sets = draws} : HeldVplDraw{};
+      temporal.accumulate(projection, 1, layers, hdr, {}, held);
+      centre.push_back(hdr(8, 6).x / inv_pi);  // the irradiance it shows (albedo 1: radiance = irradiance / pi)
+    }
+    return centre;
+  };
+  const std::vector<float> apart = run(true), together = run(false);
+  // Over the last cycle: the largest change from one frame to the next, and the mean.
+  const auto last_cycle = [&](const std::vector<float>& centre) {
+    float change = 0.0f, sum = 0.0f;
+    for (int frame = frames - draws; frame < frames; ++frame) {
+      change = std::max(change, std::abs(centre[std::size_t(frame)] - centre[std::size_t(frame - 1)]));
+      sum += centre[std::size_t(frame)];
+    }
+    return std::pair{change, sum / float(draws)};
+  };
+  const auto [apart_change, apart_mean] = last_cycle(apart);
+  const auto [together_change, together_mean] = last_cycle(together);
+  INFO("change frame to frame: apart " << apart_change << ", together " << together_change);
+  // Each draw's history holds only its own frames (the first frame's, one frame of the first
+  // draw, is that draw's alone), so the pixel shows exactly their mean up to float rounding.
+  CHECK(apart_mean == Approx(3.0f).margin(1e-5));
+  CHECK(apart_change < 1e-5f);
+  // One history of 8 frames moves 1/8 of the way to each frame's light: swings of about 0.4.
+  CHECK(together_change > 0.2f);
+  CHECK(together_mean == Approx(3.0f).margin(0.5));
+}
+
 TEST_CASE("temporal reuse: a still view averages its frames", "[render][temporal]") {
   // With the clamp off its shrinking changes nothing, so frame n of a still view is, per pixel,
   // the mean over frames 0..n (each rendered alone, its rays where pixel_jitter puts them) of
@@ -479,6 +536,7 @@ TEST_CASE("temporal reuse: a camera moving through an unchanged scene keeps its 
   RenderSettings s = small_settings();
   s.temporal_frames = 32;
   s.held_vpl_frames = 3;
+  s.held_vpl_sets = 1;  // each held frame keeps the one before's VPLs
   const Camera start = scene.cameras.front();
   TemporalRenderer<> sequence(scene, s);
   // Camera offsets frame by frame, and whether each frame keeps the VPLs of the one before: the
@@ -528,6 +586,51 @@ TEST_CASE("temporal reuse: a camera moving through an unchanged scene keeps its 
   // Only the frame index differs between the first two, and with the VPLs given nothing else in
   // these frames draws on it (no shadow roulette, no delta light whose shadow answers are reused).
   CHECK(difference(held_frame, same_frame) < 1e-3 * difference(held_frame, fresh_frame));
+}
+
+TEST_CASE("temporal reuse: a moving camera's frames cycle through the held draws of VPLs", "[render][temporal]") {
+  Scene scene = cornell_box();
+  RenderSettings s = small_settings();
+  s.temporal_frames = 32;
+  s.held_vpl_sets = 3;
+  const Camera start = scene.cameras.front();
+  TemporalRenderer<> sequence(scene, s);
+  // Frame 0 draws its VPLs; the run of moving frames after it takes them as its first draw and
+  // draws two more (frames 1 and 2), then cycles through the three. A still frame (7) ends the
+  // run and draws its own; the next run starts from those.
+  const std::uint32_t drawn_by[] = {0, 1, 2, 0, 1, 2, 0, 7, 8, 9, 7, 8, 9};
+  for (std::uint32_t index = 0; index < std::size(drawn_by); ++index) {
+    INFO("frame " << index);
+    const float offset = 0.001f * float(index == 7 ? 6 : index);
+    const Frame frame = sequence.renderer.render(moved(start, offset), index);
+    CHECK(frame.statistics.vpl_index == drawn_by[index]);
+    CHECK(frame.statistics.vpls_kept == (drawn_by[index] != index));
+  }
+  // Settings outside 1..max_held_vpl_sets are refused with their name.
+  s.held_vpl_sets = 0;
+  CHECK_THROWS_WITH(validate(s), Catch::Contains("held VPL sets 0"));
+  s.held_vpl_sets = max_held_vpl_sets + 1;
+  CHECK_THROWS_WITH(validate(s), Catch::Contains("held VPL sets"));
+}
+
+TEST_CASE("temporal reuse: held draws of VPLs share the first draw's direct light", "[render][temporal]") {
+  // Each set: a sun and two sky directions (directional), then bounce VPLs (surface). A later
+  // draw keeps its bounces and takes the first draw's direct light; a set whose direct light
+  // does not match in count is left as it is.
+  const auto vpl = [](VplKind kind, float x) { return Vpl{.position = glm::vec3(x), .intensity = glm::vec3(x), .kind = kind}; };
+  VplSets first, later;
+  first.sets = {{vpl(VplKind::directional, 1), vpl(VplKind::directional, 2), vpl(VplKind::surface, 3)},
+                {vpl(VplKind::omni, 4), vpl(VplKind::surface, 5)}};
+  later.sets = {{vpl(VplKind::directional, 6), vpl(VplKind::surface, 7), vpl(VplKind::directional, 8), vpl(VplKind::surface, 9)},
+                {vpl(VplKind::omni, 10), vpl(VplKind::omni, 11), vpl(VplKind::surface, 12)}};
+  share_direct_light(first, later);
+  const auto xs = [](const std::vector<Vpl>& set) {
+    std::vector<float> result;
+    for (const Vpl& v : set) result.push_back(v.position.x);
+    return result;
+  };
+  CHECK(xs(later.sets[0]) == std::vector<float>{1, 7, 2, 9});
+  CHECK(xs(later.sets[1]) == std::vector<float>{10, 11, 12});
 }
 
 TEST_CASE("temporal reuse: a light that changes draws its VPLs with the random numbers of those it replaces",

@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <vector>
 #include <optional>
+#include <tuple>
+#include <utility>
 
 #include <glm/glm.hpp>
 
@@ -42,6 +44,27 @@ inline VplSettings vpl_settings_for(const RenderSettings& settings, std::uint32_
   vpl_settings.scene_bounds = bounds;
   vpl_settings.view = view;
   return vpl_settings;
+}
+
+/// Gives each set of `draw` the direct light of `first`: its VPLs that are not surface VPLs (the
+/// delta lights' exact ones, the same in every draw, and the environment's directions, which each
+/// draw samples anew) replace `draw`'s, in order, where a set has as many of them. The held draws
+/// of a run then differ only in their light walks: the direct light, composed per pixel without
+/// a history while the camera moves, does not change from frame to frame as they come round, and
+/// the shadow answers towards it stay reusable (shadow_reuse.hpp).
+inline void share_direct_light(const VplSets& first, VplSets& draw) {
+  const auto is_direct = [](const Vpl& vpl) { return vpl.kind != VplKind::surface; };
+  for (std::size_t s = 0; s < std::min(first.sets.size(), draw.sets.size()); ++s) {
+    const std::vector<Vpl>& from = first.sets[s];
+    std::vector<Vpl>& to = draw.sets[s];
+    if (std::count_if(from.begin(), from.end(), is_direct) != std::count_if(to.begin(), to.end(), is_direct)) continue;
+    auto source = from.begin();
+    for (Vpl& vpl : to) {
+      if (!is_direct(vpl)) continue;
+      source = std::find_if(source, from.end(), is_direct);
+      vpl = *source++;
+    }
+  }
 }
 
 /// What a frame asks of the tile engine beyond scene, camera, settings and index.
@@ -80,7 +103,13 @@ struct FrameState {
   SeeThroughMeshes see_through;                ///< The scene's thin-walled glass and alpha-blended meshes, which shadow rays pass attenuated.
   std::optional<PinholeProjection> projection; ///< Primary-ray generator; empty before prepare.
   VplSets vpls;                                ///< This frame's VPL sets (S^2 of them).
-  bool vpls_kept = false;                      ///< Whether vpls are the previous frame's (FrameOptions::keep_vpls).
+  bool vpls_kept = false;                      ///< Whether vpls are a held draw (FrameOptions::keep_vpls).
+  /// The draws of VPLs that the current run of frames keeping theirs cycles through
+  /// (RenderSettings::held_vpl_sets): the first is the VPLs of the frame before the run, each
+  /// other is drawn by the first frame that uses it, with that frame's random numbers. Empty while no run goes on.
+  std::vector<std::pair<VplSets, std::uint32_t>> held_vpls;  ///< Each draw and the frame index whose random numbers drew it.
+  int held_set = -1;  ///< Which of held_vpls the frame uses (-1: none, its VPLs are its own).
+  std::uint32_t vpl_index = 0;  ///< The frame index whose random numbers drew vpls.
   RenderSettings settings;                     ///< Resolution, S, M, N, ...
   float clamp_distance = 0.0f;                 ///< Resolved minimum VPL distance.
   float ray_epsilon = 1e-4f;                   ///< ray_offset of the scene: how far rays start off surfaces.
@@ -103,24 +132,39 @@ struct FrameState {
   /// with `tone_mapping`: VPLs from `sampler`, whose walks shade their hits with the frame's own
   /// `surface` and `brdf` shaders, spread for glossy receivers by assign_vpl_radii, and clamp and ray offsets from the scene's world `bounds`
   /// (SceneBounds keeps them without walking every vertex each frame), the clamp times `clamp_scale`.
-  /// With `keep_vpls` the VPLs of the frame prepared before stay (drawn anew if there are none);
-  /// else they are drawn with the random numbers of frame `vpl_index` (empty: `index`).
+  /// With `keep_vpls` the frame takes the next of its run's held draws (held_vpls; if the frame
+  /// prepared before has no VPLs, it draws anew); else they are drawn with the random numbers of
+  /// frame `drawing_index` (empty: `index`).
   template <class B, class Surface, class Brdf, class Sampler>
     requires VplSampler<Sampler, B, Surface, Brdf>
   void prepare(const Scene& scene, const Bounds& bounds, const B& backend, const Surface& surface, const Brdf& brdf,
                const Sampler& sampler, const RenderSettings& frame_settings, const Camera& camera, std::uint32_t index,
                const ToneMapping& frame_tone_mapping, float clamp_scale = 1.0f, bool keep_vpls = false,
-               std::optional<std::uint32_t> vpl_index = std::nullopt) {
+               std::optional<std::uint32_t> drawing_index = std::nullopt) {
     const PinholeProjection frame_projection(camera, frame_settings.width, frame_settings.height);
     const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
     const float frame_clamp = resolve_clamp(frame_settings, diagonal) * clamp_scale;
-    vpls_kept = keep_vpls && vpls.sets.size() == std::size_t(frame_settings.interleave * frame_settings.interleave);
+    const bool keep = keep_vpls && vpls.sets.size() == std::size_t(frame_settings.interleave * frame_settings.interleave);
+    if (!keep) {
+      held_vpls.clear();
+      held_set = -1;
+    } else {
+      if (held_vpls.empty()) {
+        held_vpls.emplace_back(vpls, vpl_index);  // the run's first draw: the frame before's
+        held_set = 0;
+      }
+      held_set = (held_set + 1) % std::max(frame_settings.held_vpl_sets, 1);  // the first new draw first
+    }
+    vpls_kept = keep && std::size_t(held_set) < held_vpls.size();
+    if (vpls_kept) std::tie(vpls, vpl_index) = held_vpls[std::size_t(held_set)];
     if (!vpls_kept) {
       const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
       const VplView view{.projection = frame_projection, .clamp_distance = frame_clamp};
-      vpls = sampler.generate(scene, backend, surface, brdf,
-                              vpl_settings_for(frame_settings, vpl_index.value_or(index), bounds, &view));
+      this->vpl_index = drawing_index.value_or(index);
+      vpls = sampler.generate(scene, backend, surface, brdf, vpl_settings_for(frame_settings, this->vpl_index, bounds, &view));
+      if (keep) share_direct_light(held_vpls.front().first, vpls);
       assign_vpl_radii(vpls);
+      if (keep) held_vpls.emplace_back(vpls, this->vpl_index);  // the run's next draw (held_set == its place)
     }
     cutouts = CutoutMeshes(scene);
     see_through = SeeThroughMeshes(scene);

@@ -28,7 +28,7 @@ struct FrameStatistics {
   RayCounts rays;                 ///< Rays traced.
   int tiles = 0;                  ///< Tiles rendered.
   int vpls = 0;                   ///< VPLs in all sets.
-  bool vpls_kept = false;         ///< Whether the frame kept the previous frame's VPLs (RenderSettings::held_vpl_frames).
+  bool vpls_kept = false;         ///< Whether the frame kept VPLs drawn before it (RenderSettings::held_vpl_frames).
   std::uint32_t vpl_index = 0;    ///< The frame index whose random numbers drew the frame's VPLs (its own, or an earlier frame's: RenderSettings::held_vpl_frames).
   LuminanceStatistics luminance;  ///< Combined tile statistics.
   StageTimes stages;              ///< CPU time per pipeline stage, summed over tiles (with Renderer::set_profiling).
@@ -142,7 +142,7 @@ class Renderer {
     const auto vpls_done = clock::now();
     const bool same_numbers = engine_.frame().vpls_kept || options.vpl_index.has_value();
     held_vpl_frames_ = same_numbers ? held_vpl_frames_ + 1 : 0;
-    if (!same_numbers) vpl_index_ = index;
+    vpl_index_ = engine_.frame().vpl_index;
 
     std::mutex merge_mutex;
     FrameStatistics& stats = frame.statistics;
@@ -226,7 +226,9 @@ class Renderer {
     std::vector<LuminanceAccumulator> rows(std::size_t(frame.height));
     engine_.execute([&] {
       temporal_->accumulate(*engine_.frame().projection, engine_.settings().antialiasing, layers_, frame.hdr,
-                            engine_.frame().keeps_shadows ? engine_.frame().delta_lights : std::vector<DeltaLightKey>{});
+                            engine_.frame().keeps_shadows ? engine_.frame().delta_lights : std::vector<DeltaLightKey>{},
+                            {.set = settings().held_vpl_sets > 1 ? engine_.frame().held_set : -1,
+                             .sets = settings().held_vpl_sets});
       tbb::parallel_for(0, frame.height, [&](int y) {
         for (int x = 0; x < frame.width; ++x) {
           rows[std::size_t(y)].add(frame.hdr(x, y));

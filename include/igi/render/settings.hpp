@@ -81,8 +81,9 @@ struct RenderSettings {
   /// the traced one up to shadows finer than a pixel. false: every frame traces them all.
   bool reuse_shadows = true;
   /// With temporal reuse: while the camera moves and the scene does not change, a frame keeps
-  /// the VPLs of the frame before it instead of drawing new ones, for up to this many frames in a
-  /// row; a still view draws new VPLs every frame (its history averages them), and so do the
+  /// VPLs drawn before it (the frame before's, or a few draws in turn: held_vpl_sets) instead of
+  /// drawing new ones, for up to this many frames in a row; a still view draws new VPLs every
+  /// frame (its history averages them), and so do the
   /// frames after a change until the moving histories hold only frames of the changed scene. Each frame's
   /// VPLs differ in their few heavy light paths, which a moving camera's short histories cannot
   /// average away: kept ones leave the image mean steady and the flicker at the reference's
@@ -95,6 +96,16 @@ struct RenderSettings {
   /// varied by 14% with new numbers, by 4% with the same); those frames count in the same run.
   /// 0: every frame draws new VPLs with its own numbers.
   int held_vpl_frames = 240;
+  /// With held VPLs (held_vpl_frames): how many draws of VPLs a run of held frames cycles
+  /// through, one a frame (the frame before the run's, then new ones drawn by the first frames of
+  /// the run; their direct light is the first draw's: share_direct_light). Each pixel's history
+  /// averages each draw's frames apart and shows the mean of those averages (TemporalReuse), so
+  /// a view holds the light paths of all the draws while its irradiance changes from frame to
+  /// frame no more than with one draw. 1 (the run keeps the frame before's VPLs alone) by
+  /// default: with 4, the window-lit rooms' walks halve their median relMSE, but the glossy
+  /// light, which a moving view does not average, changes with each draw and Sponza_lit's image
+  /// mean swings by up to 14% from one frame to the next (docs/interaction.md).
+  int held_vpl_sets = 1;
   std::uint32_t seed = 0;         ///< Randomisation of the QMC sequences.
   int threads = 0;                ///< Worker threads; 0 means all cores.
 };
@@ -114,6 +125,9 @@ inline constexpr int max_temporal_frames = 1024;
 /// Longest run of frames that keep their VPLs while the camera moves: past 100000 frames (over
 /// an hour at 24 frames a second) a run is as good as never refreshed.
 inline constexpr int max_held_vpl_frames = 100000;
+/// Most held VPL draws: a moving history averages 8 frames (TemporalReuse::moving_frames), so
+/// with more draws than that some would hold no frame of the average.
+inline constexpr int max_held_vpl_sets = 8;
 /// Most environment directions: 1024 shadow rays per pixel for the sky alone is past any use.
 inline constexpr int max_environment_directions = 1024;
 /// Largest anti-aliasing factor: 64 sub-samples per pixel is past any visible gain.
@@ -155,6 +169,8 @@ inline void validate(const RenderSettings& s) {
   require(s.held_vpl_frames >= 0 && s.held_vpl_frames <= max_held_vpl_frames,
           "held VPL frames " + std::to_string(s.held_vpl_frames) + " is outside 0.." +
               std::to_string(max_held_vpl_frames));
+  require(s.held_vpl_sets >= 1 && s.held_vpl_sets <= max_held_vpl_sets,
+          "held VPL sets " + std::to_string(s.held_vpl_sets) + " is outside 1.." + std::to_string(max_held_vpl_sets));
   require(s.temporal_frames >= 0 && s.temporal_frames <= max_temporal_frames,
           "temporal frames " + std::to_string(s.temporal_frames) + " is outside 0.." +
               std::to_string(max_temporal_frames));

@@ -36,6 +36,12 @@
 /// with c (the light of the region within c of a contact), the average's variance grows as
 /// 1/c^2 per frame and falls as 1/n, so c^2 ~ n^(-1/2) makes both fall as n^(-1/2).
 ///
+/// A moving camera's frames that keep their VPLs cycle through a few draws of them
+/// (RenderSettings::held_vpl_sets): there each history also averages each draw's frames apart
+/// and shows the mean of those averages, so that a pixel holds the light paths of every draw
+/// while its value changes from frame to frame only as one draw's frames differ (one average of
+/// all frames would move an eighth of the way to each draw's light as it came round).
+///
 /// Each history also keeps its first hit's shadow answers towards the delta lights (ShadowBits),
 /// which the next frame's pipeline reuses instead of tracing those rays again where its first hit
 /// shows the same surface as all four previous pixels around its reprojection, which agree
@@ -44,6 +50,7 @@
 /// the rays are traced.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -67,6 +74,13 @@
 #include "igi/simd/sampling.hpp"
 
 namespace igi {
+
+/// Which of the draws of VPLs that a run of frames keeping theirs cycles through a frame used
+/// (FrameState::held_set).
+struct HeldVplDraw {
+  int set = -1;  ///< The draw (0 .. sets - 1); -1: the frame's VPLs are not one of several held draws.
+  int sets = 1;  ///< How many the run cycles through (RenderSettings::held_vpl_sets).
+};
 
 /// Averages a Renderer's frames over time (see the file comment).
 class TemporalReuse {
@@ -170,9 +184,10 @@ class TemporalReuse {
   /// `projection` with `antialiasing` sub-samples) into the histories and writes the composed
   /// radiance into `hdr`. Rows run as a oneTBB loop (call it inside the renderer's arena); each
   /// pixel depends only on its inputs, so the result is the same on any number of threads.
-  /// `shadow_keys` are the delta lights the layers' ShadowBits number (FrameState::delta_lights).
+  /// `shadow_keys` are the delta lights the layers' ShadowBits number (FrameState::delta_lights);
+  /// `held` says which held draw of VPLs the frame used, if any.
   void accumulate(const PinholeProjection& projection, int antialiasing, std::span<const PixelLayers> layers,
-                  Image& hdr, std::vector<DeltaLightKey> shadow_keys = {}) {
+                  Image& hdr, std::vector<DeltaLightKey> shadow_keys = {}, HeldVplDraw held = {}) {
     const std::size_t pixels = std::size_t(width_) * std::size_t(height_);
     if (layers.size() != pixels || hdr.width != width_ || hdr.height != height_ ||
         projection.width() != width_ || projection.height() != height_)
@@ -185,11 +200,14 @@ class TemporalReuse {
     next_shadow_points_.resize(keep_shadows ? pixels : 0);
     const bool clamp = scene_changed_ && has_history();
     if (clamp) neighbourhood_ranges(layers);
+    if (held.set < 0 || held.set >= held.sets) held = {};
+    current_draws_.resize(held.set >= 0 ? pixels * std::size_t(held.sets) : 0);  // pixel() sets each entry
     tbb::parallel_for(0, height_, [&](int y) {
       for (int x = 0; x < width_; ++x) {
         const std::size_t at = std::size_t(y) * std::size_t(width_) + std::size_t(x);
-        hdr.pixels[at] = pixel(projection, layers[at], x, y, measured, clamp ? &ranges_[at] : nullptr, current_[at],
-                               current_view_[at]);
+        hdr.pixels[at] = pixel(projection, layers[at], x, y, measured, clamp ? &ranges_[at] : nullptr, held,
+                               current_[at], current_view_[at],
+                               held.set >= 0 ? &current_draws_[at * std::size_t(held.sets)] : nullptr);
         if (keep_shadows) {
           const Sample& kept = current_[at];
           next_shadow_points_[at] = {kept.position, kept.normal, kept.length > 0 ? layers[at].shadows : ShadowBits{}};
@@ -199,6 +217,8 @@ class TemporalReuse {
     std::swap(previous_, current_);
     std::swap(previous_view_, current_view_);
     std::swap(shadow_points_, next_shadow_points_);
+    std::swap(previous_draws_, current_draws_);
+    previous_draw_sets_ = held.set >= 0 ? held.sets : 0;
     previous_keys_ = std::move(shadow_keys);
     previous_projection_.emplace(projection);
     previous_measured_ = measured;
@@ -340,9 +360,17 @@ class TemporalReuse {
     return old.length > 0 && same_surface(old.position, old.normal, position, normal, depth);
   }
 
+  /// The previous pixels a history was taken from and their weights (summing to 1).
+  struct Footprint {
+    std::array<std::size_t, 4> at{};
+    std::array<float, 4> weight{};
+    int count = 0;
+  };
+
   /// The irradiance history of a hit at `position` found in the previous frame by reprojection:
-  /// the bilinear mix of the neighbours that show the same surface (length 0 if none does).
-  Sample reproject(const glm::vec3& position, const glm::vec3& normal, float depth) const {
+  /// the bilinear mix of the neighbours that show the same surface (length 0 if none does), whose
+  /// places and weights go to `footprint`.
+  Sample reproject(const glm::vec3& position, const glm::vec3& normal, float depth, Footprint& footprint) const {
     Sample found;
     const std::optional<glm::vec2> seen = previous_projection_->project(position);
     if (!seen) return found;
@@ -358,9 +386,12 @@ class TemporalReuse {
       for (int i = 0; i < 2; ++i) {
         const int x = x0 + i, y = y0 + j;
         if (x < 0 || y < 0 || x >= width_ || y >= height_) continue;
-        const Sample& old = previous_[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
+        const std::size_t at = std::size_t(y) * std::size_t(width_) + std::size_t(x);
+        const Sample& old = previous_[at];
         if (!same_surface(old, position, normal, depth)) continue;
         const float weight = (i ? fx : 1.0f - fx) * (j ? fy : 1.0f - fy);
+        footprint.at[std::size_t(footprint.count)] = at;
+        footprint.weight[std::size_t(footprint.count++)] = weight;
         weight_sum += weight;
         length_sum += weight * float(old.length);
         irradiance += weight * old.irradiance;
@@ -368,14 +399,63 @@ class TemporalReuse {
         recent += weight * old.recent;
         recent_length_sum += weight * float(old.recent_length);
       }
-    if (!(weight_sum > 0.0f)) return found;
+    if (!(weight_sum > 0.0f)) {
+      footprint.count = 0;
+      return found;
+    }
     const float inverse_weight = 1.0f / weight_sum;
+    for (int k = 0; k < footprint.count; ++k) footprint.weight[std::size_t(k)] *= inverse_weight;
     found.irradiance = irradiance * inverse_weight;
     found.luminance_square = luminance_square * inverse_weight;
     found.length = std::max(1, int(length_sum * inverse_weight + 0.5f));
     found.recent = recent * inverse_weight;
     found.recent_length = std::max(1, int(recent_length_sum * inverse_weight + 0.5f));
     return found;
+  }
+
+  /// Writes into `draws` (held.sets entries: irradiance and frame count of each held draw) the
+  /// histories of the previous pixels in `footprint` draw by draw, or, after a frame that used
+  /// no held draw, `history`'s average as the first draw's (and the others' if it holds more than
+  /// one frame), each clamped into `range` if given; then averages `irradiance` into draw
+  /// held.set, at most `cap` frames of it, and returns the mean of the draws that hold a frame.
+  glm::vec3 average_draws(const Footprint& footprint, const Sample& history, const glm::vec3& irradiance,
+                          const Range* range, HeldVplDraw held, int cap, glm::vec4* draws) const {
+    const std::size_t sets = std::size_t(held.sets);
+    const int draw_cap = std::max(1, cap / held.sets);  // the draws together hold what one history does
+    for (std::size_t k = 0; k < sets; ++k) {
+      draws[k] = glm::vec4(0.0f);
+      if (previous_draw_sets_ == held.sets && footprint.count > 0) {
+        glm::vec4 sum(0.0f);
+        float weight_sum = 0.0f;
+        for (int i = 0; i < footprint.count; ++i) {
+          const glm::vec4& old = previous_draws_[footprint.at[std::size_t(i)] * sets + k];
+          if (old.w <= 0.0f) continue;  // that pixel holds no frame of this draw
+          sum += footprint.weight[std::size_t(i)] * old;
+          weight_sum += footprint.weight[std::size_t(i)];
+        }
+        if (weight_sum > 0.0f)
+          draws[k] = glm::vec4(glm::vec3(sum) / weight_sum, std::max(1.0f, std::round(sum.w / weight_sum)));
+      } else if (history.length > 0 && (k == 0 || history.length > 1)) {
+        // The run's first draw is the VPLs of the frame before it, whose light the history holds;
+        // a history of several frames, drawn anew each (a still view's, or after a change), is
+        // the better guess for the others too, until their own frames replace it. One frame is
+        // the first draw's alone: the others start empty.
+        draws[k] = glm::vec4(history.irradiance, float(std::min(history.length, draw_cap)));
+      }
+      if (range && draws[k].w > 0.0f)
+        draws[k] = glm::vec4(glm::clamp(glm::vec3(draws[k]), range->lowest, range->highest), draws[k].w);
+    }
+    glm::vec4& own = draws[std::size_t(held.set)];
+    const float frames = std::min(own.w + 1.0f, float(draw_cap));
+    own = glm::vec4(glm::vec3(own) + (irradiance - glm::vec3(own)) / frames, frames);
+    glm::vec3 sum(0.0f);
+    float filled = 0.0f;
+    for (std::size_t k = 0; k < sets; ++k)
+      if (draws[k].w > 0.0f) {
+        sum += glm::vec3(draws[k]);
+        filled += 1.0f;
+      }
+    return sum / filled;  // the own draw holds a frame
   }
 
   /// Sets `sample`'s irradiance average to `irradiance`, its second moment moved with it so that
@@ -400,9 +480,10 @@ class TemporalReuse {
   }
 
   /// Pixel (x, y)'s new history `out` and `out_view` and its radiance; its first hit was measured
-  /// at (x, y) + `measured`; with a `range` (after a scene change) the history is first clamped into it.
+  /// at (x, y) + `measured`; with a `range` (after a scene change) the history is first clamped into
+  /// it; with `held` draw's `out_draws` (held.sets of them) the pixel shows the mean of its draws' averages.
   glm::vec3 pixel(const PinholeProjection& projection, const PixelLayers& layers, int x, int y, glm::vec2 measured,
-                  const Range* range, Sample& out, ViewSample& out_view) const {
+                  const Range* range, HeldVplDraw held, Sample& out, ViewSample& out_view, glm::vec4* out_draws) const {
     const std::size_t at = std::size_t(y) * std::size_t(width_) + std::size_t(x);
     out = Sample{};
     // The view-dependent terms keep a history only while the camera stays (then each pixel is its own previous pixel).
@@ -422,8 +503,10 @@ class TemporalReuse {
                      projection.direction(float(x) + measured.x, float(y) + measured.y) * layers.depth;
       out.normal = layers.normal;
       Sample history;
+      Footprint footprint;
       if (same_pixel) {
         history = *same_pixel;
+        footprint = {.at = {at}, .weight = {1.0f}, .count = 1};
       } else if (same_camera_ && has_history()) {
         // The camera stayed and the scene changed: the hit's previous pixel is its own, where it
         // still shows the same surface. Where something moved off that surface the pixel starts
@@ -431,9 +514,12 @@ class TemporalReuse {
         // (taking them, a moved block's bounce light lagged: 0.85 of the change in the first two
         // frames, against 0.93 and 0.88 without).
         const Sample& own = previous_[at];
-        if (same_surface(own, out.position, out.normal, layers.depth)) history = own;
+        if (same_surface(own, out.position, out.normal, layers.depth)) {
+          history = own;
+          footprint = {.at = {at}, .weight = {1.0f}, .count = 1};
+        }
       } else if (has_history()) {
-        history = reproject(out.position, out.normal, layers.depth);
+        history = reproject(out.position, out.normal, layers.depth, footprint);
       }
       if (range && history.length > 0) move_mean(history, glm::clamp(history.irradiance, range->lowest, range->highest));
       const int cap = same_camera_ ? frames_ : std::min(frames_, moving_frames);
@@ -461,6 +547,7 @@ class TemporalReuse {
         out.luminance_square =
             history.length > 0 ? history.luminance_square + (square - history.luminance_square) * weight : square;
       }
+      if (out_draws) move_mean(out, average_draws(footprint, history, layers.irradiance, range, held, cap, out_draws));
     } else if (same_pixel && same_pixel->length > 0) {
       // A ray that missed where this pixel's earlier rays hit: their surface's history stays.
       out.irradiance = same_pixel->irradiance;
@@ -471,6 +558,7 @@ class TemporalReuse {
       out.position = same_pixel->position;
       out.normal = same_pixel->normal;
     }
+    if (out_draws && !layers.hit) std::fill_n(out_draws, held.sets, glm::vec4(0.0f));
     // Composed as the pipeline composes (a miss without history has albedo and glossy 0).
     const PixelLayers averaged{.irradiance = out.irradiance, .glossy = out_view.glossy, .albedo = out_view.albedo,
                                .rest = out_view.rest, .hit = true};
@@ -491,6 +579,12 @@ class TemporalReuse {
   std::vector<ViewSample> current_view_;   ///< The frame being accumulated's (kept to reuse its memory).
   std::vector<Range> rows_;       ///< Each pixel's range along its row (neighbourhood_ranges' first pass).
   std::vector<Range> ranges_;     ///< Each pixel's neighbourhood range after a scene change.
+  /// The last frame's held draws' histories (FrameState::held_vpls): previous_draw_sets_ a pixel,
+  /// row-major, each the draw's average irradiance and (w) its frames (0: none); empty after a
+  /// frame that used no held draw.
+  std::vector<glm::vec4> previous_draws_;
+  std::vector<glm::vec4> current_draws_;  ///< The frame being accumulated's (kept to reuse its memory).
+  int previous_draw_sets_ = 0;            ///< Draws per pixel in previous_draws_ (0: it holds none).
   std::vector<ShadowPoint> shadow_points_;       ///< The last frame's first hits and shadow answers (empty: it kept none).
   std::vector<ShadowPoint> next_shadow_points_;  ///< The frame being accumulated's (kept to reuse its memory).
   std::vector<DeltaLightKey> previous_keys_;  ///< The delta lights previous_'s ShadowBits number.
