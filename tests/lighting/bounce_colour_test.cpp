@@ -12,6 +12,7 @@
 #include "igi/scene/cornell.hpp"
 #include "igi/shading/brdf_shaders.hpp"
 #include "igi/shading/gltf_material_shader.hpp"
+#include "render/test_renderers.hpp"
 
 using namespace igi;
 

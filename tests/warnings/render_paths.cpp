@@ -7,7 +7,7 @@
 // Explicit instantiation definitions compile every member of a class, as a program calling all of
 // them would: the glTF path with Embree at packet width IGI_WARNINGS_WIDTH (4, 8 or 16; each with
 // its own VPL sampler and filter, so each is compiled once), or SaarCOR's 8 x 8 packets (64). One
-// path per compile: each costs some 15 CPU-seconds at -O2.
+// path per compile, so that ctest -j spreads them: each costs 35-90 CPU-seconds at -O2.
 #if IGI_WARNINGS_WIDTH == 4
 template class igi::Renderer<igi::EmbreeBackend<4>, igi::GltfMaterialShader, igi::StandardBrdf, igi::QmcVplSampler,
                              igi::DiscontinuityFilter>;

@@ -156,7 +156,8 @@ struct FrameState {
       held_set = (held_set + 1) % std::max(frame_settings.held_vpl_sets, 1);  // the first new draw first
     }
     vpls_kept = keep && std::size_t(held_set) < held_vpls.size();
-    if (vpls_kept) std::tie(vpls, vpl_index) = held_vpls[std::size_t(held_set)];
+    // With one draw the frame's VPLs already are that draw (nothing else drew since): no copy.
+    if (vpls_kept && held_vpls.size() > 1) std::tie(vpls, vpl_index) = held_vpls[std::size_t(held_set)];
     if (!vpls_kept) {
       const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
       const VplView view{.projection = frame_projection, .clamp_distance = frame_clamp};

@@ -128,36 +128,10 @@ class PathTracer {
     statistics_ = {};
   }
 
+  // Defined after the class, so not inline: a program that declares the path tracer's
+  // instantiation extern does not compile its paths again (as Renderer::render).
   /// Adds `spp` samples per pixel to the current image (after reset); SettingsError if spp < 0 or nothing was reset.
-  void add_samples(int spp) {
-    if (spp < 0) throw SettingsError("spp " + std::to_string(spp) + " is negative");
-    if (spp > std::numeric_limits<int>::max() - samples_)
-      throw SettingsError("spp " + std::to_string(spp) + " would take the sample count past " +
-                          std::to_string(std::numeric_limits<int>::max()));
-    if (!projection_) throw SettingsError("PathTracer::add_samples before reset(camera, width, height)");
-    const int width = projection_->width(), height = projection_->height(), tile = settings_.tile_size;
-    const int tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;
-    const int first = samples_, last = samples_ + spp;
-    std::mutex merge;
-    arena_.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 1), [&](const tbb::blocked_range<int>& range) {
-        PathTracerStatistics local;
-        for (int t = range.begin(); t != range.end(); ++t) {
-          const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
-          for (int y = y0; y < std::min(y0 + tile, height); ++y)
-            for (int x = x0; x < std::min(x0 + tile, width); ++x) {
-              glm::dvec3& sum = sums_[std::size_t(y) * std::size_t(width) + std::size_t(x)];
-              for (int s = first; s < last; ++s) sum += glm::dvec3(sample(x, y, s, local));
-            }
-        }
-        std::lock_guard lock(merge);
-        statistics_.rays.merge(local.rays);
-        statistics_.paths += local.paths;
-        statistics_.invalid_samples += local.invalid_samples;
-      }, tbb::simple_partitioner());
-    });
-    samples_ = last;
-  }
+  void add_samples(int spp);
 
   /// The running mean of all samples so far (black before the first sample).
   Image image() const {
@@ -436,5 +410,36 @@ class PathTracer {
   int samples_ = 0;
   PathTracerStatistics statistics_;
 };
+
+template <class B, class Surface, class Brdf>
+void PathTracer<B, Surface, Brdf>::add_samples(int spp) {
+  if (spp < 0) throw SettingsError("spp " + std::to_string(spp) + " is negative");
+  if (spp > std::numeric_limits<int>::max() - samples_)
+    throw SettingsError("spp " + std::to_string(spp) + " would take the sample count past " +
+                        std::to_string(std::numeric_limits<int>::max()));
+  if (!projection_) throw SettingsError("PathTracer::add_samples before reset(camera, width, height)");
+  const int width = projection_->width(), height = projection_->height(), tile = settings_.tile_size;
+  const int tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;
+  const int first = samples_, last = samples_ + spp;
+  std::mutex merge;
+  arena_.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 1), [&](const tbb::blocked_range<int>& range) {
+      PathTracerStatistics local;
+      for (int t = range.begin(); t != range.end(); ++t) {
+        const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
+        for (int y = y0; y < std::min(y0 + tile, height); ++y)
+          for (int x = x0; x < std::min(x0 + tile, width); ++x) {
+            glm::dvec3& sum = sums_[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+            for (int s = first; s < last; ++s) sum += glm::dvec3(sample(x, y, s, local));
+          }
+      }
+      std::lock_guard lock(merge);
+      statistics_.rays.merge(local.rays);
+      statistics_.paths += local.paths;
+      statistics_.invalid_samples += local.invalid_samples;
+    }, tbb::simple_partitioner());
+  });
+  samples_ = last;
+}
 
 }  // namespace igi

@@ -104,73 +104,14 @@ class Renderer {
            const Sampler& sampler, const F& filter)
       : engine_(scene, settings, surface, brdf, sampler, filter) {}
 
+  // Defined after the class, so not inline: a program that declares the renderer's instantiation
+  // extern (explicit instantiation declaration) does not compile the frame's pipeline again;
+  // defined in the class, GCC compiled it in every such program to be able to inline it.
   /// Renders frame `index` as seen by `camera`. The HDR image depends only on scene, camera,
   /// settings and index (with RenderSettings::temporal_frames, on those of the frames before it
   /// too); the RGB8 image is tone mapped with the previous frame's statistics (the first frame,
   /// having none, is mapped with its own).
-  Frame render(const Camera& camera, std::uint32_t index) {
-    using clock = std::chrono::steady_clock;
-    const auto start = clock::now();
-    const RenderSettings& settings = engine_.settings();
-    Frame frame = Frame::blank(settings.width, settings.height, index);
-    FrameOptions options{.profile = profiling_};
-    if (temporal_) {
-      const TemporalReuse::FrameRequest request = temporal_->begin(camera, settings.width, settings.height, scene_changed_);
-      options.clamp_scale = request.clamp_scale;
-      options.pixel_jitter = request.pixel_jitter;
-      options.texture_cone_scale = request.texture_cone_scale;
-      options.shadow_history = &*temporal_;
-      // A camera that moves through an unchanged scene keeps its VPLs (RenderSettings::held_vpl_frames),
-      // once the moving histories hold no frame from before the scene's last change: until then
-      // each frame's new VPLs add an independent sample of the changed light to the clamped histories.
-      frames_since_change_ = scene_changed_ ? 0 : std::min(frames_since_change_ + 1, TemporalReuse::moving_frames);
-      options.keep_vpls = frames_since_change_ >= TemporalReuse::moving_frames && temporal_->still_frames() == 0 &&
-                          held_vpl_frames_ < settings.held_vpl_frames;
-      // A light that changed (moved, turned, dimmed) draws its VPLs with the random numbers of
-      // those it replaces: they move with the light instead of being replaced by other light
-      // paths. Every VPL changes with it, so the histories, clamped everywhere, keep little, and
-      // new numbers each frame would make the image pulse with each frame's few heavy paths. A
-      // moved object changes only the paths that meet it: there the histories average new ones.
-      if (lights_changed_ && vpl_index_ && held_vpl_frames_ < settings.held_vpl_frames) options.vpl_index = vpl_index_;
-    }
-    if (temporal_ || keep_layers_) {
-      options.keep_layers = true;
-      layers_.resize(std::size_t(settings.width) * std::size_t(settings.height));
-    }
-    scene_changed_ = lights_changed_ = false;
-    engine_.begin_frame(camera, index, tone_mapping_ ? *tone_mapping_ : ToneMapping{}, options);
-    const auto vpls_done = clock::now();
-    const bool same_numbers = engine_.frame().vpls_kept || options.vpl_index.has_value();
-    held_vpl_frames_ = same_numbers ? held_vpl_frames_ + 1 : 0;
-    vpl_index_ = engine_.frame().vpl_index;
-
-    std::mutex merge_mutex;
-    FrameStatistics& stats = frame.statistics;
-    engine_.render_frame([&](std::size_t, const TileResult& result, double) {
-      place_tile(result, frame, layers_);  // tiles are disjoint: no lock needed
-      std::lock_guard lock(merge_mutex);
-      stats.rays.merge(result.rays);
-      stats.stages.merge(result.stages);
-      stats.luminance.merge(result.luminance);
-    });
-    if (temporal_) {
-      const auto reuse_start = clock::now();
-      reuse_history(frame);
-      stats.temporal_milliseconds = std::chrono::duration<double, std::milli>(clock::now() - reuse_start).count();
-    }
-    const ToneMapping next = ToneMapping::from(stats.luminance);
-    if (!tone_mapping_) frame.tone_map(next);
-    tone_mapping_ = next;
-    stats.tiles = int(engine_.tiles().size());
-    stats.vpls = engine_.frame().vpl_count();
-    stats.vpls_kept = engine_.frame().vpls_kept;
-    stats.vpl_index = *vpl_index_;
-    const auto end = clock::now();
-    stats.milliseconds = std::chrono::duration<double, std::milli>(end - start).count();
-    stats.vpl_milliseconds = std::chrono::duration<double, std::milli>(vpls_done - start).count();
-    stats.commit_milliseconds = engine_.commit_milliseconds();
-    return frame;
-  }
+  Frame render(const Camera& camera, std::uint32_t index);
 
   /// Moves instance `instance` (takes effect at the next frame).
   void set_instance_transform(int instance, const glm::mat4& transform) {
@@ -262,5 +203,70 @@ class Renderer {
   int frames_since_change_ = TemporalReuse::moving_frames;
   std::vector<PixelLayers> layers_;  ///< The current frame's PixelLayers (with temporal reuse).
 };
+
+template <class B, class Surface, class Brdf, class Sampler, class F>
+Frame Renderer<B, Surface, Brdf, Sampler, F>::render(const Camera& camera, std::uint32_t index) {
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  const RenderSettings& settings = engine_.settings();
+  Frame frame = Frame::blank(settings.width, settings.height, index);
+  FrameOptions options{.profile = profiling_};
+  if (temporal_) {
+    const TemporalReuse::FrameRequest request = temporal_->begin(camera, settings.width, settings.height, scene_changed_);
+    options.clamp_scale = request.clamp_scale;
+    options.pixel_jitter = request.pixel_jitter;
+    options.texture_cone_scale = request.texture_cone_scale;
+    options.shadow_history = &*temporal_;
+    // A camera that moves through an unchanged scene keeps its VPLs (RenderSettings::held_vpl_frames),
+    // once the moving histories hold no frame from before the scene's last change: until then
+    // each frame's new VPLs add an independent sample of the changed light to the clamped histories.
+    frames_since_change_ = scene_changed_ ? 0 : std::min(frames_since_change_ + 1, TemporalReuse::moving_frames);
+    options.keep_vpls = frames_since_change_ >= TemporalReuse::moving_frames && temporal_->still_frames() == 0 &&
+                        held_vpl_frames_ < settings.held_vpl_frames;
+    // A light that changed (moved, turned, dimmed) draws its VPLs with the random numbers of
+    // those it replaces: they move with the light instead of being replaced by other light
+    // paths. Every VPL changes with it, so the histories, clamped everywhere, keep little, and
+    // new numbers each frame would make the image pulse with each frame's few heavy paths. A
+    // moved object changes only the paths that meet it: there the histories average new ones.
+    if (lights_changed_ && vpl_index_ && held_vpl_frames_ < settings.held_vpl_frames) options.vpl_index = vpl_index_;
+  }
+  if (temporal_ || keep_layers_) {
+    options.keep_layers = true;
+    layers_.resize(std::size_t(settings.width) * std::size_t(settings.height));
+  }
+  scene_changed_ = lights_changed_ = false;
+  engine_.begin_frame(camera, index, tone_mapping_ ? *tone_mapping_ : ToneMapping{}, options);
+  const auto vpls_done = clock::now();
+  const bool same_numbers = engine_.frame().vpls_kept || options.vpl_index.has_value();
+  held_vpl_frames_ = same_numbers ? held_vpl_frames_ + 1 : 0;
+  vpl_index_ = engine_.frame().vpl_index;
+
+  std::mutex merge_mutex;
+  FrameStatistics& stats = frame.statistics;
+  engine_.render_frame([&](std::size_t, const TileResult& result, double) {
+    place_tile(result, frame, layers_);  // tiles are disjoint: no lock needed
+    std::lock_guard lock(merge_mutex);
+    stats.rays.merge(result.rays);
+    stats.stages.merge(result.stages);
+    stats.luminance.merge(result.luminance);
+  });
+  if (temporal_) {
+    const auto reuse_start = clock::now();
+    reuse_history(frame);
+    stats.temporal_milliseconds = std::chrono::duration<double, std::milli>(clock::now() - reuse_start).count();
+  }
+  const ToneMapping next = ToneMapping::from(stats.luminance);
+  if (!tone_mapping_) frame.tone_map(next);
+  tone_mapping_ = next;
+  stats.tiles = int(engine_.tiles().size());
+  stats.vpls = engine_.frame().vpl_count();
+  stats.vpls_kept = engine_.frame().vpls_kept;
+  stats.vpl_index = *vpl_index_;
+  const auto end = clock::now();
+  stats.milliseconds = std::chrono::duration<double, std::milli>(end - start).count();
+  stats.vpl_milliseconds = std::chrono::duration<double, std::milli>(vpls_done - start).count();
+  stats.commit_milliseconds = engine_.commit_milliseconds();
+  return frame;
+}
 
 }  // namespace igi

@@ -99,12 +99,12 @@ struct RenderSettings {
   /// With held VPLs (held_vpl_frames): how many draws of VPLs a run of held frames cycles
   /// through, one a frame (the frame before the run's, then new ones drawn by the first frames of
   /// the run; their direct light is the first draw's: share_direct_light). Each pixel's history
-  /// averages each draw's frames apart and shows the mean of those averages (TemporalReuse), so
-  /// a view holds the light paths of all the draws while its irradiance changes from frame to
-  /// frame no more than with one draw. 1 (the run keeps the frame before's VPLs alone) by
-  /// default: with 4, the window-lit rooms' walks halve their median relMSE, but the glossy
-  /// light, which a moving view does not average, changes with each draw and Sponza_lit's image
-  /// mean swings by up to 14% from one frame to the next (docs/interaction.md).
+  /// averages each draw's frames apart, irradiance and glossy light, and shows the mean of those
+  /// averages (TemporalReuse), so a view holds the light paths of all the draws while its light
+  /// changes from frame to frame no more than with one draw. 1 (the run keeps the frame before's
+  /// VPLs alone) by default: with 4, the window-lit rooms' walks halve their median relMSE, but a
+  /// cold start's first frame has one draw (the window room's image mean then varies by 3.1% over
+  /// its walk, 2.8% with one) and the blinds flicker more (docs/interaction.md).
   int held_vpl_sets = 1;
   std::uint32_t seed = 0;         ///< Randomisation of the QMC sequences.
   int threads = 0;                ///< Worker threads; 0 means all cores.
