@@ -17,13 +17,13 @@
 #include "igi/lighting/lights.hpp"
 #include "igi/render/light_check.hpp"
 #include "igi/simd/sampling.hpp"
+#include "lighting/lighting_support.hpp"
 #include "scene_builders.hpp"
 
 using namespace igi;
+using namespace igi::testing;
 
 namespace {
-
-constexpr float pi = std::numbers::pi_v<float>;
 
 /// A map whose radiance varies in both directions (a gradient, a bright patch for a sun and a
 /// black band), so that sampling and lookups are exercised off any symmetry.

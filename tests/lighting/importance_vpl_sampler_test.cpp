@@ -25,8 +25,10 @@
 #include "igi/shading/brdf_shaders.hpp"
 #include "igi/shading/gltf_material_shader.hpp"
 #include "igi/simd/sampling.hpp"
+#include "lighting/lighting_support.hpp"
 
 using namespace igi;
+using namespace igi::testing;
 
 namespace {
 
@@ -98,8 +100,6 @@ bool close(const VplSets& a, const VplSets& b, float distance, float rounding) {
 }
 
 bool same(const VplSets& a, const VplSets& b) { return close(a, b, 0.0f, 0.0f); }
-
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // Mean and standard error of `values`.
 struct MeanError {

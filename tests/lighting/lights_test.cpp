@@ -8,13 +8,13 @@
 
 #include "igi/lighting/lights.hpp"
 #include "igi/simd/sampling.hpp"
+#include "lighting/lighting_support.hpp"
 #include "scene_builders.hpp"
 
 using namespace igi;
+using namespace igi::testing;
 
 namespace {
-
-constexpr float pi = std::numbers::pi_v<float>;
 
 // Mean flux of n stratified emission samples (u3, u4 on an n x n grid, u1, u2 from Halton).
 glm::dvec3 mean_flux(const Emitter& e, int n) {

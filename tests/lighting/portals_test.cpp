@@ -21,12 +21,12 @@
 #include "igi/shading/brdf_shaders.hpp"
 #include "igi/shading/gltf_material_shader.hpp"
 #include "igi/simd/sampling.hpp"
+#include "lighting/lighting_support.hpp"
 
 using namespace igi;
+using namespace igi::testing;
 
 namespace {
-
-constexpr float pi = std::numbers::pi_v<float>;
 
 // The rooms' inside (window_room.hpp): 5 x 4 m, 2.8 m high, from the origin; 1 mm beyond the
 // walls' inner faces, so points on those faces count as inside.

@@ -14,14 +14,14 @@
 #include "igi/shading/brdf_shaders.hpp"
 #include "igi/shading/gltf_material_shader.hpp"
 #include "igi/shading/procedural_shaders.hpp"
+#include "lighting/lighting_support.hpp"
 #include "scenes.hpp"
 #include "scene_builders.hpp"
 
 using namespace igi;
+using namespace igi::testing;
 
 namespace {
-
-constexpr float pi = std::numbers::pi_v<float>;
 
 // Sum of the mean-RGB flux of the VPLs of `set` whose bounce is `bounce` (-1: all).
 double set_flux(const VplGeneration& g, std::size_t set, int bounce, float directional_area = 0.0f) {
@@ -43,8 +43,6 @@ double total_flux(const VplGeneration& g, int bounce, float directional_area = 0
 bool same(const Vpl& a, const Vpl& b) {
   return a.position == b.position && a.normal == b.normal && a.intensity == b.intensity && a.kind == b.kind;
 }
-
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace
 

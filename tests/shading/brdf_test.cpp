@@ -17,12 +17,12 @@
 #include "igi/shading/brdf_shaders.hpp"
 #include "igi/simd/sampling.hpp"
 #include "policy_lists.hpp"
+#include "shading/shading_support.hpp"
 
 using namespace igi;
+using namespace igi::testing;
 
 namespace {
-
-constexpr int W = 8;
 
 // A flat surface at the origin facing +z, seen from direction `wo` (all lanes alike).
 SurfaceHit<W> flat_hit(const glm::vec3& wo, bool front = true) {

@@ -16,12 +16,12 @@
 #include "igi/shading/procedural_shaders.hpp"
 #include "igi/shading/scalar_shader_adapter.hpp"
 #include "igi/shading/texture_sampling.hpp"
+#include "shading/shading_support.hpp"
 
 using namespace igi;
+using namespace igi::testing;
 
 namespace {
-
-constexpr int W = 8;
 
 // A 2x2 texture: red, green / blue, white (top row first), alpha 255, 0 / 255, 128.
 Texture checker(bool srgb) {
