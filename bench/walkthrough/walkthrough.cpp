@@ -156,6 +156,7 @@ struct Method {
   float clamp = RenderSettings{}.clamp_distance;      ///< --clamp (IGI only; < 0: automatic).
   int interleave = RenderSettings{}.interleave;        ///< --interleave (IGI only).
   bool filter_textures = RenderSettings{}.filter_textures;  ///< Camera rays read textures at their footprint (IGI only; --point-textures turns it off).
+  std::uint32_t seed = RenderSettings{}.seed;  ///< Randomisation of the VPLs' sequences (IGI only).
 };
 
 /// The methods measured: igi-render's and igi-view's defaults (temporal reuse over 32 frames,
@@ -177,7 +178,7 @@ const std::vector<Method> all_methods = {
 
 /// A method given by its settings: "custom" and then any of vpls=M, sampler=qmc|importance,
 /// temporal=FRAMES, portal-share=SHARE, roulette=FRACTION, compensate=RAYS, hold=FRAMES, sets=DRAWS,
-/// clamp=METRES, interleave=S and textures=filtered|point, separated by
+/// clamp=METRES, interleave=S, seed=N and textures=filtered|point, separated by
 /// spaces; unnamed settings are the default method's. Throws UsageError naming a bad one.
 Method custom_method(const std::string& spec) {
   Method method = all_methods.front();
@@ -200,6 +201,7 @@ Method custom_method(const std::string& spec) {
       if (key == "sets") method.held_sets = std::stoi(value, &used);
       if (key == "clamp") method.clamp = std::stof(value, &used);
       if (key == "interleave") method.interleave = std::stoi(value, &used);
+      if (key == "seed") method.seed = std::uint32_t(std::stoul(value, &used));
       if (key == "textures" && (value == "filtered" || value == "point")) {
         method.filter_textures = value == "filtered";
         used = value.size();
@@ -215,7 +217,7 @@ Method custom_method(const std::string& spec) {
       throw UsageError("--methods: '" + word + "' in '" + spec +
                        "' is not one of vpls=M, sampler=qmc|importance, temporal=FRAMES, portal-share=SHARE, "
                        "roulette=FRACTION, compensate=RAYS, hold=FRAMES, sets=DRAWS, clamp=METRES, interleave=S, "
-                       "textures=filtered|point");
+                       "seed=N, textures=filtered|point");
   }
   return method;
 }
@@ -451,6 +453,7 @@ StatsJson measure(const Walk& walk, const std::vector<Method>& methods, const Op
       settings.clamp_distance = method.clamp;
       settings.interleave = method.interleave;
       settings.filter_textures = method.filter_textures;
+      settings.seed = method.seed;
       sampler.emplace(method.vpl_sampler);
       renderer.emplace(scene, settings, surface, brdf, *sampler, filter);
     }

@@ -16,6 +16,8 @@ class SeparateImportanceVplSampler {
  public:
   /// Policy name: ImportanceVplSampler's.
   static constexpr const char* name() noexcept { return ImportanceVplSampler::name(); }
+  /// ImportanceVplSampler's: its VPLs are chosen for the frame's view.
+  static constexpr bool chooses_for_view() noexcept { return ImportanceVplSampler::chooses_for_view(); }
   /// ImportanceVplSampler{}.generate(scene, tracer, shader, brdf, settings).
   template <class Tracer, class Shader, class Brdf>
   VplSets generate(const Scene& scene, const Tracer& tracer, const Shader& shader, const Brdf& brdf,

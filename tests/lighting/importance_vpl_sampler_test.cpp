@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <catch2/catch.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <oneapi/tbb/task_arena.h>
 
 #include "igi/backends/embree/embree_backend.hpp"
@@ -18,6 +19,7 @@
 #include "igi/filters/tile_filters.hpp"
 #include "igi/lighting/importance_vpl_sampler.hpp"
 #include "igi/lighting/vpl_sampler_choice.hpp"
+#include "igi/render/renderer.hpp"
 #include "igi/render/tile_engine.hpp"
 #include "igi/scene/cornell.hpp"
 #include "igi/scene/validate.hpp"
@@ -123,6 +125,11 @@ TEST_CASE("ImportanceVplSampler: satisfies the VplSampler concept, and so does V
   CHECK(std::string(VplSamplerChoice("qmc").chosen()) == "qmc");
   CHECK(std::string(VplSamplerChoice("importance").chosen()) == "importance");
   CHECK_THROWS_WITH(VplSamplerChoice("metropolis"), "unknown VPL sampler 'metropolis' (qmc or importance)");
+  // Its VPLs are chosen for the view (a moving camera's frames draw them anew), QMC's are not.
+  STATIC_REQUIRE(chooses_for_view(ImportanceVplSampler{}));
+  STATIC_REQUIRE_FALSE(chooses_for_view(QmcVplSampler{}));
+  CHECK(chooses_for_view(VplSamplerChoice("importance")));
+  CHECK_FALSE(chooses_for_view(VplSamplerChoice("qmc")));
 }
 
 TEST_CASE("window room: a valid scene whose inside light can only come through the window", "[lighting][scene][window]") {
@@ -255,6 +262,52 @@ TEST_CASE("ImportanceVplSampler: a frame's VPLs do not depend on the thread coun
     arena.execute([&] { in_arena = ImportanceVplSampler{}.generate(scene, backend, shader, brdf, frame_settings); });
     INFO(threads << " threads");
     CHECK(same(in_arena, direct));
+  }
+}
+
+TEST_CASE("ImportanceVplSampler: a moving camera's frames choose their VPLs anew, with the run's numbers and openings",
+          "[lighting][vpl][importance][render]") {
+  Scene scene = window_room();
+  const GltfMaterialShader shader(scene);
+  const StandardBrdf brdf;
+  const NoFilter filter;
+  RenderSettings settings;
+  settings.width = 48;
+  settings.height = 36;
+  settings.vpls_per_pixel = 4;
+  settings.threads = 1;
+  const Camera start = scene.cameras.front();
+  const auto moved = [&](int step) {
+    Camera camera = start;
+    camera.camera_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(0.05f * float(step), 0.0f, 0.0f)) * camera.camera_to_world;
+    return camera;
+  };
+  using Engine = TileEngine<EmbreeBackend<8>, GltfMaterialShader, StandardBrdf, VplSamplerChoice, NoFilter>;
+  {
+    // A frame that draws with the numbers of the VPLs it replaces aims through their openings:
+    // QMC's walks are then the same from another view; drawn afresh from it they are not.
+    const VplSamplerChoice qmc("qmc");
+    Engine run(scene, settings, shader, brdf, qmc, filter), fresh(scene, settings, shader, brdf, qmc, filter);
+    run.begin_frame(start, 4, ToneMapping{});
+    const VplSets first = run.frame().vpls;
+    run.begin_frame(moved(3), 5, ToneMapping{}, FrameOptions{.vpl_index = 4});
+    CHECK(same(run.frame().vpls, first));
+    fresh.begin_frame(moved(3), 4, ToneMapping{});
+    CHECK_FALSE(same(fresh.frame().vpls, first));
+  }
+  // With temporal reuse a moving camera keeps QMC's VPLs; the importance sampler's, chosen for
+  // one view, are drawn anew by each moving frame with the run's numbers (frame 0's).
+  settings.temporal_frames = 32;
+  for (const char* name : {"qmc", "importance"}) {
+    INFO(name);
+    const VplSamplerChoice sampler(name);
+    Renderer<EmbreeBackend<8>, GltfMaterialShader, StandardBrdf, VplSamplerChoice, NoFilter> renderer(
+        scene, settings, shader, brdf, sampler, filter);
+    for (std::uint32_t index = 0; index < 4; ++index) {
+      const FrameStatistics statistics = renderer.render(moved(int(index)), index).statistics;
+      CHECK(statistics.vpl_index == 0);
+      CHECK(statistics.vpls_kept == (index > 0 && !chooses_for_view(sampler)));
+    }
   }
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <catch2/catch.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "igi/backends/embree/embree_backend.hpp"
 #include "igi/backends/reference/reference_backend.hpp"
@@ -386,6 +387,34 @@ TEST_CASE("portals: aimed walks put many more of a frame's VPLs in the room, on 
     }
   }
   CHECK(compared > 50);
+}
+
+TEST_CASE("portals: particles are aimed through the openings of the portal view where one is given", "[lighting][portals]") {
+  // A run of frames that draws again with the same numbers keeps its first view's openings
+  // (FrameState::prepare), so its light walks stay the same whatever the camera does since.
+  const Scene scene = with_sky(window_room());
+  const EmbreeBackend<1> backend(scene);
+  const GltfMaterialShader shader(scene);
+  const StandardBrdf brdf;
+  const VplView first = camera_view(scene);
+  Camera turned = scene.cameras.front();
+  turned.camera_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(0.4f, 0.0f, 0.3f)) *
+                           glm::rotate(glm::mat4(1.0f), 0.35f, glm::vec3(0.0f, 1.0f, 0.0f)) * turned.camera_to_world;
+  const VplView later{.projection = PinholeProjection(turned, view_width, view_height), .clamp_distance = first.clamp_distance};
+  const auto positions = [&](const VplView& view, const VplView* portal_view) {
+    VplSettings settings = frame_settings(scene, view, 0.7f, 8, 3);
+    settings.portal_view = portal_view;
+    std::vector<glm::vec3> result;
+    for (const std::vector<Vpl>& set : QmcVplSampler{}.generate(scene, backend, shader, brdf, settings).sets)
+      for (const Vpl& vpl : set) result.push_back(vpl.position);
+    return result;
+  };
+  const std::vector<glm::vec3> aimed_first = positions(first, nullptr);
+  REQUIRE(aimed_first.size() > 50);
+  // The later view finds other openings' points, and so other walks ...
+  CHECK(positions(later, nullptr) != aimed_first);
+  // ... unless it is told to aim through the first view's.
+  CHECK(positions(later, &first) == aimed_first);
 }
 
 TEST_CASE("portals: bounces aimed back in through openings from outside keep the cosine lobe's estimate", "[lighting][portals]") {

@@ -193,6 +193,8 @@ class ImportanceVplSampler {
 
   /// Policy name.
   static constexpr const char* name() noexcept { return "importance"; }
+  /// Its VPLs are chosen for the frame's view (igi::chooses_for_view).
+  static constexpr bool chooses_for_view() noexcept { return true; }
 
   /// The sampler with the default settings.
   ImportanceVplSampler() = default;

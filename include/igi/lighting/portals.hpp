@@ -224,7 +224,8 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
   // Only where light comes from far away: a scene lit by its emitters alone (a lamp in a room, the
   // Cornell box) would pay a few thousand rays a frame (a fifth of a 320 x 240 Cornell frame) to
   // find that they light the view from where they are.
-  if (!settings.view || !(share > 0.0f) || (!sky && !directional)) return portals;
+  const VplView* view = settings.portal_view ? settings.portal_view : settings.view;
+  if (!view || !(share > 0.0f) || (!sky && !directional)) return portals;
 
   // The emissive triangles, drawn by power: rays from the view's points towards them find the
   // openings an emitter outside shines in by (a sky panel seen through a window fills too little
@@ -254,7 +255,7 @@ Portals find_portals(const Scene& scene, const SceneGeometry& geometry, const Tr
     }
   }
 
-  const PinholeProjection& projection = settings.view->projection;
+  const PinholeProjection& projection = view->projection;
   // An arbitrary salt that separates the portals' numbers from the walks' and the view points'.
   constexpr std::uint32_t portal_salt = 0x706f7274u;
   const float offset = ray_offset(settings.scene_bounds);

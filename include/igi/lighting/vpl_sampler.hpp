@@ -33,6 +33,10 @@ struct VplSettings {
   float portal_share = 0.7f;     ///< Share of the sun's, the sky's and outside emitters' particles aimed through the view's openings (RenderSettings::portal_share says why 0.7).
   Bounds scene_bounds{};         ///< The scene's world bounds this frame (for lights at infinity); empty: the sampler computes them.
   const VplView* view = nullptr; ///< The frame's view, borrowed for one generate call; samplers that do not look at the camera ignore it.
+  /// The view whose openings the particles are aimed through (find_portals), borrowed as `view`;
+  /// null: `view`. A run of frames drawing with the same numbers keeps its first view's, so that
+  /// its light walks stay the same while a sampler chooses among them for each view.
+  const VplView* portal_view = nullptr;
 };
 
 /// A VPL sampler: `generate(scene, tracer, surface, brdf, settings)` returns `settings.sets` sets
@@ -46,5 +50,19 @@ concept VplSampler = SurfaceShader<Surface, 1> && BrdfShader<Brdf, 1> &&
                        { V::name() } -> std::convertible_to<const char*>;
                        { sampler.generate(scene, tracer, surface, brdf, settings) } -> std::same_as<VplSets>;
                      };
+
+/// Whether `sampler` chooses its VPLs for the frame's view (VplSettings::view), so that they fit
+/// no other view: a sampler says so with a member `chooses_for_view()`; one without it does not.
+/// A moving camera's frames draw such VPLs anew, with the random numbers of those they replace,
+/// instead of keeping them (Renderer::render).
+template <class V>
+constexpr bool chooses_for_view(const V& sampler) noexcept {
+  if constexpr (requires {
+                  { sampler.chooses_for_view() } -> std::convertible_to<bool>;
+                })
+    return sampler.chooses_for_view();
+  else
+    return false;
+}
 
 }  // namespace igi

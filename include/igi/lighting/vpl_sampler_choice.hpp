@@ -40,6 +40,11 @@ class BasicVplSamplerChoice {
     return std::visit([](const auto& sampler) { return sampler.name(); }, sampler_);
   }
 
+  /// Whether the chosen sampler chooses its VPLs for the frame's view (igi::chooses_for_view).
+  bool chooses_for_view() const noexcept {
+    return std::visit([](const auto& sampler) { return igi::chooses_for_view(sampler); }, sampler_);
+  }
+
   /// The frame's VPL sets from the chosen sampler.
   template <class Tracer, class Shader, class Brdf>
     requires SurfaceShader<Shader, 1> && BrdfShader<Brdf, 1>

@@ -110,6 +110,9 @@ struct FrameState {
   std::vector<std::pair<VplSets, std::uint32_t>> held_vpls;  ///< Each draw and the frame index whose random numbers drew it.
   int held_set = -1;  ///< Which of held_vpls the frame uses (-1: none, its VPLs are its own).
   std::uint32_t vpl_index = 0;  ///< The frame index whose random numbers drew vpls.
+  /// The view whose openings aimed the particles of vpls (VplSettings::portal_view): the view of
+  /// the first frame that drew with vpl_index's numbers; empty before the first frame.
+  std::optional<PinholeProjection> portal_projection;
   RenderSettings settings;                     ///< Resolution, S, M, N, ...
   float clamp_distance = 0.0f;                 ///< Resolved minimum VPL distance.
   float ray_epsilon = 1e-4f;                   ///< ray_offset of the scene: how far rays start off surfaces.
@@ -161,8 +164,16 @@ struct FrameState {
     if (!vpls_kept) {
       const FlushDenormals flush;  // as the tile tasks: VPLs are the same on every thread and process
       const VplView view{.projection = frame_projection, .clamp_distance = frame_clamp};
+      // Drawing again with the numbers of the VPLs it replaces, a frame aims through the openings
+      // those were aimed through: the same light walks, which a sampler choosing VPLs for the
+      // view then chooses among for this frame's view.
+      const bool same_numbers = drawing_index && *drawing_index == vpl_index && portal_projection;
+      if (!same_numbers) portal_projection.emplace(frame_projection);
+      const VplView portal_view{.projection = *portal_projection, .clamp_distance = frame_clamp};
       this->vpl_index = drawing_index.value_or(index);
-      vpls = sampler.generate(scene, backend, surface, brdf, vpl_settings_for(frame_settings, this->vpl_index, bounds, &view));
+      VplSettings vpl_settings = vpl_settings_for(frame_settings, this->vpl_index, bounds, &view);
+      vpl_settings.portal_view = &portal_view;
+      vpls = sampler.generate(scene, backend, surface, brdf, vpl_settings);
       if (keep) share_direct_light(held_vpls.front().first, vpls);
       assign_vpl_radii(vpls);
       if (keep) held_vpls.emplace_back(vpls, this->vpl_index);  // the run's next draw (held_set == its place)

@@ -94,6 +94,8 @@ struct RenderSettings {
   /// its VPLs with the random numbers of those it replaces, so that they move with it instead of
   /// being replaced by other heavy light paths each frame (under a circling sun the image mean
   /// varied by 14% with new numbers, by 4% with the same); those frames count in the same run.
+  /// VPLs chosen for the view (a sampler's chooses_for_view: ImportanceVplSampler) are drawn
+  /// anew by every moving frame with the run's numbers too, chosen for that frame's view.
   /// 0: every frame draws new VPLs with its own numbers.
   int held_vpl_frames = 240;
   /// With held VPLs (held_vpl_frames): how many draws of VPLs a run of held frames cycles
@@ -104,7 +106,8 @@ struct RenderSettings {
   /// changes from frame to frame no more than with one draw. 1 (the run keeps the frame before's
   /// VPLs alone) by default: with 4, the window-lit rooms' walks halve their median relMSE, but a
   /// cold start's first frame has one draw (the window room's image mean then varies by 3.1% over
-  /// its walk, 2.8% with one) and the blinds flicker more (docs/interaction.md).
+  /// its walk, 2.8% with one) and the blinds flicker more (docs/interaction.md). A sampler that
+  /// chooses its VPLs for the view keeps no draws: its moving frames draw anew (held_vpl_frames).
   int held_vpl_sets = 1;
   std::uint32_t seed = 0;         ///< Randomisation of the QMC sequences.
   int threads = 0;                ///< Worker threads; 0 means all cores.

@@ -285,6 +285,8 @@ class TileEngine {
   std::span<const int> all_tiles() const noexcept { return all_tiles_; }
   /// The current frame's shared state (after begin_frame).
   const FrameState& frame() const noexcept { return frame_; }
+  /// The VPL sampler.
+  const Sampler& sampler() const noexcept { return *sampler_; }
   /// The scene being rendered.
   const Scene& scene() const noexcept { return *scene_; }
   /// The backend (for statistics).
