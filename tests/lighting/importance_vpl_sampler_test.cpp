@@ -4,8 +4,10 @@
 // settings are errors that say what is wrong. Also the window room itself: light enters it only
 // through the window.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -195,6 +197,9 @@ TEST_CASE("ImportanceVplSampler: bad settings are errors that name the setting",
   CHECK_THROWS_WITH(ImportanceVplSampler({.view_samples = 0}), "ImportanceVplSampler: view_samples must be in 1..4096, got 0");
   CHECK_THROWS_WITH(ImportanceVplSampler({.floor_share = 0.0f}), Catch::Contains("ImportanceVplSampler: floor_share must be in (0, 1)"));
   CHECK_THROWS_WITH(ImportanceVplSampler({.least_gain = 0.5f}), "ImportanceVplSampler: least_gain must be finite and >= 1, got 0.500000");
+  CHECK_THROWS_WITH(ImportanceVplSampler({.shared_weight = 0.5f}), Catch::Contains("ImportanceVplSampler: shared_weight must be >= 1"));
+  CHECK_THROWS_WITH(ImportanceVplSampler({.shared_weight = std::nanf("")}), Catch::Contains("shared_weight must be >= 1"));
+  CHECK_THROWS_WITH(ImportanceVplSampler({.shared_brightness = -1.0f}), Catch::Contains("shared_brightness must be >= 0"));
   CHECK_THROWS_WITH(ImportanceVplSampler({.max_oversampling = 0}),
                     "ImportanceVplSampler: max_oversampling must be in 1..256, got 0");
 }
@@ -342,9 +347,11 @@ TEST_CASE("ImportanceVplSampler: finite VPLs, probabilities above 0 and at most 
     }
     total += set.size();
   }
-  const double mean_size = double(total) / double(g.generation.vpls.sets.size());
-  std::printf("window: importance %.1f VPLs per set (N = %d walks, %d candidates, %d view points), qmc N = %d\n",
-              mean_size, g.generation.walks_per_set, g.candidates, g.view_points, q.walks_per_set);
+  // A VPL shared by every set (a heavy one) is one VPL of the budget, not one per set.
+  const double sets = double(g.generation.vpls.sets.size());
+  const double mean_size = double(total) / sets - double(g.shared) + double(g.shared) / sets;
+  std::printf("window: importance %.1f VPLs per set (%d shared by all; N = %d walks, %d candidates, %d view points), qmc N = %d\n",
+              mean_size, g.shared, g.generation.walks_per_set, g.candidates, g.view_points, q.walks_per_set);
   CHECK(g.view_points > 0);
   CHECK(g.image_flux > 0.0);
   // About M: N is sized so that the expected kept count is M; one frame's sets vary around it
@@ -353,6 +360,73 @@ TEST_CASE("ImportanceVplSampler: finite VPLs, probabilities above 0 and at most 
   CHECK(mean_size < 1.35 * 16.0);
   // More candidates than QMC's walks leave: some are rejected.
   CHECK(g.generation.walks_per_set > q.walks_per_set);
+}
+
+TEST_CASE("ImportanceVplSampler: heavy, bright VPLs are in every set with their weight shared, the others in one",
+          "[lighting][vpl][importance]") {
+  // The window room under the paper's walks, whose floor keeps unseen candidates at ten times
+  // QMC's weight. With shared_brightness 0 every VPL heavier than shared_weight times QMC's
+  // weight goes to every set and no other does; by default only the bright ones among them; with
+  // shared_weight infinite none. Sharing moves light between sets, not out of the frame.
+  const WindowRoomView room;
+  const ImportanceVplSampler all_heavy({.shared_brightness = 0.0f}), bright_heavy{},
+      none({.shared_weight = std::numeric_limits<float>::infinity()});
+  int shared_heavy = 0, shared_bright = 0;
+  for (std::uint32_t frame = 0; frame < 8; ++frame) {
+    VplSettings settings = view_settings(room.scene, room.view, 16, frame);
+    settings.portal_share = 0.0f;
+    const auto generate = [&](const ImportanceVplSampler& sampler) {
+      return sampler.generate_with_statistics(room.scene, room.backend, room.shader, StandardBrdf{}, settings);
+    };
+    const ImportanceVplGeneration unshared = generate(none);
+    REQUIRE(unshared.qmc_acceptance < 1.0);
+    CHECK(unshared.shared == 0);
+    const auto total = [](const ImportanceVplGeneration& generation) {
+      double sum = 0.0;
+      for (const auto& set : generation.generation.vpls.sets)
+        for (const Vpl& vpl : set) sum += double(luminance(vpl.intensity));
+      return sum;
+    };
+    for (const bool bright_only : {false, true}) {
+      const ImportanceVplSampler& sampler = bright_only ? bright_heavy : all_heavy;
+      const ImportanceVplGeneration g = generate(sampler);
+      // The room's one delta light (the sun) is outside the budget; p below this is heavier than
+      // shared_weight times QMC's weight (budget / m walks a set).
+      const double budget = 16.0 - 1.0;
+      const double below = budget / (g.generation.vpls_per_walk * double(g.generation.walks_per_set) *
+                                     double(sampler.settings().shared_weight));
+      const auto& sets = g.generation.vpls.sets;
+      for (std::size_t s = 0; s < sets.size(); ++s) {
+        int in_every_set = 0;
+        for (std::size_t i = 0; i < sets[s].size(); ++i) {
+          if (g.generation.origins[s][i].walk < 0) continue;  // the sun's VPL leads every set as in QmcVplSampler
+          const Vpl& vpl = sets[s][i];
+          int copies = 0;
+          for (const auto& other : sets)
+            copies += int(std::count_if(other.begin(), other.end(), [&](const Vpl& o) {
+              return o.position == vpl.position && o.intensity == vpl.intensity && o.kind == vpl.kind;
+            }));
+          INFO("frame " << frame << ", set " << s << ", VPL " << i << ": p " << g.probability[s][i] << ", heavy below "
+                        << below << (bright_only ? ", bright ones only" : ""));
+          CHECK((copies == 1 || copies == int(sets.size())));
+          if (copies == int(sets.size())) {
+            ++in_every_set;
+            CHECK(g.probability[s][i] < below);
+          } else if (!bright_only) {
+            CHECK(g.probability[s][i] >= below);
+          }
+        }
+        CHECK(in_every_set == g.shared);
+      }
+      (bright_only ? shared_bright : shared_heavy) += g.shared;
+      CHECK(total(g) == Approx(total(unshared)).epsilon(1e-4));
+    }
+  }
+  std::printf("window: VPLs shared by every set over 8 frames: %d heavy, %d of them bright too\n", shared_heavy,
+              shared_bright);
+  // The floor keeps heavy VPLs in these frames, so the rule was exercised; fewer are also bright.
+  CHECK(shared_heavy > 0);
+  CHECK(shared_bright <= shared_heavy);
 }
 
 TEST_CASE("ImportanceVplSampler: in the window room the kept VPLs light what the camera sees",
@@ -373,13 +447,21 @@ TEST_CASE("ImportanceVplSampler: in the window room the kept VPLs light what the
     const VplGeneration generations[2] = {
         ImportanceVplSampler{}.generate_with_statistics(room.scene, room.backend, room.shader, StandardBrdf{}, settings).generation,
         QmcVplSampler{}.generate_with_origins(room.scene, room.backend, room.shader, StandardBrdf{}, settings)};
-    for (int which = 0; which < 2; ++which)
-      for (std::size_t s = 0; s < generations[which].vpls.sets.size(); ++s)
-        for (std::size_t i = 0; i < generations[which].vpls.sets[s].size(); ++i) {
+    for (int which = 0; which < 2; ++which) {
+      const auto& sets = generations[which].vpls.sets;
+      for (std::size_t s = 0; s < sets.size(); ++s)
+        for (std::size_t i = 0; i < sets[s].size(); ++i) {
           if (generations[which].origins[s][i].walk < 0) continue;
-          count[which] += 1;
-          if (judge.contribution(generations[which].vpls.sets[s][i], room.backend) == 0.0) unseen[which] += 1;
+          // A VPL every set holds (a heavy one, shared) counts once, as its light does.
+          const Vpl& vpl = sets[s][i];
+          std::size_t copies = 0;
+          for (const auto& other : sets)
+            copies += std::size_t(std::count_if(other.begin(), other.end(), [&](const Vpl& o) { return o.position == vpl.position; }));
+          const double share = 1.0 / double(copies);
+          count[which] += share;
+          if (judge.contribution(vpl, room.backend) == 0.0) unseen[which] += share;
         }
+    }
   }
   const double importance_unseen = unseen[0] / count[0], qmc_unseen = unseen[1] / count[1];
   std::printf("window: VPLs that add nothing to the view: importance %.2f of %.0f, qmc %.2f of %.0f\n", importance_unseen,

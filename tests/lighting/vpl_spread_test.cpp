@@ -68,3 +68,33 @@ TEST_CASE("VPL spread: a lone VPL and VPLs at one point stay points", "[lighting
   assign_vpl_radii(same);
   for (const Vpl& vpl : same.sets[0]) CHECK(vpl.radius == 0.0f);
 }
+
+TEST_CASE("VPL spread: a VPL shared by every set is one VPL, for itself and for its neighbours", "[lighting][spread]") {
+  // 300 VPLs over a floor in 9 sets, and every tenth of them copied into all 9 sets (as the
+  // importance sampler shares a heavy VPL): each radius is the brute-force one over the VPLs
+  // counted once. Counting the copies, a shared VPL's radius would be 0 (its own copies at
+  // distance 0) and its neighbours' would shrink.
+  Rng rng(5u);
+  std::vector<Vpl> distinct;
+  VplSets vpls;
+  vpls.sets.resize(9);
+  for (int i = 0; i < 300; ++i) {
+    Vpl vpl;
+    vpl.position = glm::vec3(rng.next(), 0.0f, rng.next());
+    vpl.radius = -1.0f;
+    distinct.push_back(vpl);
+    if (i % 10 == 0)
+      for (auto& set : vpls.sets) set.push_back(vpl);
+    else
+      vpls.sets[std::size_t(i % 9)].push_back(vpl);
+  }
+  assign_vpl_radii(vpls);
+  for (std::size_t s = 0; s < vpls.sets.size(); ++s)
+    for (const Vpl& vpl : vpls.sets[s]) {
+      const auto same = std::find_if(distinct.begin(), distinct.end(), [&](const Vpl& d) { return d.position == vpl.position; });
+      REQUIRE(same != distinct.end());
+      INFO("set " << s << ", VPL at " << vpl.position.x << ", " << vpl.position.z);
+      CHECK(vpl.radius > 0.0f);
+      CHECK(vpl.radius == brute_force_radius(distinct, std::size_t(same - distinct.begin()), vpl_spread_neighbours));
+    }
+}

@@ -59,6 +59,15 @@
 /// over seeds fell from 3.6 / 9.1 / 6.0% to 2.9 / 3.5 / 5.3%, the worst seed's relMSE from
 /// 0.094 / 0.52 / 0.026 to 0.014 / 0.056 / 0.023.
 ///
+/// Heavy VPLs are shared. A kept VPL weighs 1/p, up to ten times what QMC's walks would give it
+/// where the floor keeps it; in its set's pixels it then shows ten times a VPL's light, which the
+/// discontinuity buffer averages with the other sets' pixels only on smooth surfaces, not on the
+/// far trees of an outdoor view (there a frame's error rose 10-20x for one such VPL). A VPL
+/// heavier than shared_weight times QMC's weight and brighter than shared_brightness times the
+/// frame's mean walk VPL goes to every set, its intensity divided by their count: the sets' mean
+/// is unchanged, so is the estimate's expectation, and each pixel carries its share of it (a
+/// pixel connects to one more VPL for each shared one: 2-3 a frame in the forest).
+///
 /// Randomness: walk j of set s is Halton point s N + j scrambled by hash(seed, frame), as in
 /// QmcVplSampler; set s's offset u is hash(seed, frame, s). The view points,
 /// the pilot, N and tau depend only on the scene, the view, the settings, the frame and the seed,
@@ -110,6 +119,7 @@ struct ImportanceVplGeneration {
   double threshold = 0.0;                       ///< tau of the acceptance p = min(1, c / tau + floor).
   int view_points = 0;                          ///< Camera rays that found a surface that reflects.
   double qmc_acceptance = 1.0;                  ///< Share of candidates the rule keeps at QMC's walk count (1: nothing seen).
+  int shared = 0;                               ///< Kept VPLs heavy and bright enough to be shared by every set (each counted once).
 };
 
 /// What a VPL adds to a frame's view points: the importance estimate of ImportanceVplSampler.
@@ -189,6 +199,17 @@ class ImportanceVplSampler {
     /// (1 / the share of candidates the rule keeps at QMC's walk count): below 2 the weights and
     /// the dropped walks cost more than the gain where it was measured (the Cornell box, 1.4).
     float least_gain = 2.0f;
+    /// A kept VPL weighing more than this many times what QMC's walk count would give it (the
+    /// floor's unseen candidates weigh 10) and brighter than shared_brightness goes to every set,
+    /// its intensity divided by their count, so that no pixel shows it 9 times over where the
+    /// filter cannot average the sets. Measured on the camera walks (docs/interaction.md): the
+    /// forest's worst frame from relMSE 0.55 to 0.11 at 3; 1.5 shares alike, 10 none (the floor's
+    /// VPLs weigh 10 at most). Infinity shares none.
+    float shared_weight = 3.0f;
+    /// ... and shining more than this many times the frame's mean walk VPL: 3 leaves the floor's
+    /// ordinary VPLs in their sets (sharing all heavy ones, 11 a frame in the forest, cost 50% more
+    /// shadow rays for the same images) and shares the 2-3 a frame that make the bad frames.
+    float shared_brightness = 3.0f;
   };
 
   /// Policy name.
@@ -209,6 +230,12 @@ class ImportanceVplSampler {
     if (!(settings.least_gain >= 1.0f) || !std::isfinite(settings.least_gain))
       throw std::invalid_argument("ImportanceVplSampler: least_gain must be finite and >= 1, got " +
                                   std::to_string(settings.least_gain));
+    if (!(settings.shared_weight >= 1.0f))
+      throw std::invalid_argument("ImportanceVplSampler: shared_weight must be >= 1 (infinity: none shared), got " +
+                                  std::to_string(settings.shared_weight));
+    if (!(settings.shared_brightness >= 0.0f))
+      throw std::invalid_argument("ImportanceVplSampler: shared_brightness must be >= 0 (infinity: none shared), got " +
+                                  std::to_string(settings.shared_brightness));
     if (settings.max_oversampling < 1 || settings.max_oversampling > max_oversampling_limit)
       throw std::invalid_argument("ImportanceVplSampler: max_oversampling must be in 1.." +
                                   std::to_string(max_oversampling_limit) + ", got " +
@@ -425,8 +452,68 @@ class ImportanceVplSampler {
           kept_with.push_back(float(p[i]));
         }
     }
+    share_heavy(out, budget / (per_walk * double(n)));
     return out;
   }
+
+ private:
+  /// Moves the kept VPLs that weigh more than shared_weight times `qmc_weight` (1 / QMC's walks a
+  /// set) and shine more than shared_brightness times the frame's mean walk VPL out of their set
+  /// and into every set, each with its intensity divided by the sets' count.
+  void share_heavy(ImportanceVplGeneration& out, double qmc_weight) const {
+    VplGeneration& generation = out.generation;
+    const std::size_t sets = generation.vpls.sets.size();
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::size_t s = 0; s < sets; ++s)
+      for (std::size_t i = 0; i < generation.vpls.sets[s].size(); ++i)
+        if (generation.origins[s][i].walk >= 0) {
+          sum += double(luminance(generation.vpls.sets[s][i].intensity));
+          ++count;
+        }
+    if (count == 0) return;
+    const double brightest = double(settings_.shared_brightness) * sum / double(count);
+    // Kept with p below this, a VPL weighs more than shared_weight times QMC's weight.
+    const double heavy_below = qmc_weight / double(settings_.shared_weight);
+    struct Shared {
+      Vpl vpl;
+      VplOrigin origin;
+      float probability;
+    };
+    std::vector<Shared> shared;
+    for (std::size_t s = 0; s < sets; ++s) {
+      std::vector<Vpl>& set = generation.vpls.sets[s];
+      std::vector<VplOrigin>& origins = generation.origins[s];
+      std::vector<float>& kept_with = out.probability[s];
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < set.size(); ++i) {
+        if (origins[i].walk >= 0 && double(kept_with[i]) < heavy_below && double(luminance(set[i].intensity)) > brightest) {
+          Vpl vpl = set[i];
+          vpl.intensity /= float(sets);
+          shared.push_back({vpl, origins[i], kept_with[i]});
+          continue;
+        }
+        set[kept] = set[i];
+        origins[kept] = origins[i];
+        kept_with[kept] = kept_with[i];
+        ++kept;
+      }
+      set.resize(kept);
+      origins.resize(kept);
+      kept_with.resize(kept);
+    }
+    // Every set holds them, each set a share of their weight: the sets' mean is the same, and a
+    // pixel no longer depends on which set drew one of them.
+    for (std::size_t s = 0; s < sets; ++s)
+      for (const Shared& one : shared) {
+        generation.vpls.sets[s].push_back(one.vpl);
+        generation.origins[s].push_back(one.origin);
+        out.probability[s].push_back(one.probability);
+      }
+    out.shared = int(shared.size());
+  }
+
+ public:
 
   /// The view points of `settings.view` (which must be set): the first opaque, reflecting hits of
   /// `view_samples` camera rays on the grid jittered by hash(seed, frame).

@@ -11,8 +11,11 @@
 /// of area lights) are spread; point, spot and directional lights are true points.
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <unordered_map>
 #include <vector>
 
@@ -29,16 +32,31 @@ namespace igi {
 inline constexpr int vpl_spread_neighbours = 4;
 
 /// Sets `radius` of every surface VPL of `vpls` to the distance to its `neighbours`-th nearest
-/// other surface VPL (fewer if the frame has fewer); 0 for other kinds and lone VPLs. A pure
-/// function of the VPL positions: a uniform grid of cells about one spacing wide, searched in
-/// growing shells until no nearer neighbour can remain.
+/// other surface VPL (fewer if the frame has fewer); 0 for other kinds and lone VPLs. VPLs at
+/// one position count as one: a VPL shared by the sets has a copy in each, one VPL all the
+/// same. A pure function of the VPL positions: a uniform grid of cells about one spacing wide,
+/// searched in growing shells until no nearer neighbour can remain.
 inline void assign_vpl_radii(VplSets& vpls, int neighbours = vpl_spread_neighbours) {
-  std::vector<Vpl*> spread;
-  for (auto& set : vpls.sets)
-    for (Vpl& vpl : set) {
-      vpl.radius = 0.0f;
-      if (vpl.kind == VplKind::surface) spread.push_back(&vpl);
-    }
+  std::vector<Vpl*> spread;                         // one VPL per position
+  std::vector<std::pair<Vpl*, std::size_t>> copies;  // the others, with their position's index in `spread`
+  {
+    // Keyed by the coordinates' bits (+0.0f makes -0 and +0 one key): exact positions, and an
+    // order even for positions that are not finite.
+    std::map<std::array<std::uint32_t, 3>, std::size_t> position_index;
+    for (auto& set : vpls.sets)
+      for (Vpl& vpl : set) {
+        vpl.radius = 0.0f;
+        if (vpl.kind != VplKind::surface) continue;
+        const std::array<std::uint32_t, 3> key{std::bit_cast<std::uint32_t>(vpl.position.x + 0.0f),
+                                               std::bit_cast<std::uint32_t>(vpl.position.y + 0.0f),
+                                               std::bit_cast<std::uint32_t>(vpl.position.z + 0.0f)};
+        const auto [found, added] = position_index.try_emplace(key, spread.size());
+        if (added)
+          spread.push_back(&vpl);
+        else
+          copies.emplace_back(&vpl, found->second);
+      }
+  }
   const int count = int(spread.size());
   const int k = std::min(neighbours, count - 1);
   if (k < 1) return;
@@ -102,6 +120,7 @@ inline void assign_vpl_radii(VplSets& vpls, int neighbours = vpl_spread_neighbou
     }
     spread[std::size_t(i)]->radius = nearest.empty() ? 0.0f : std::sqrt(nearest.back());
   }
+  for (const auto& [vpl, index] : copies) vpl->radius = spread[index]->radius;
 }
 
 }  // namespace igi
