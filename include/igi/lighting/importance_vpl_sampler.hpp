@@ -207,7 +207,7 @@ class ImportanceVplSampler {
     /// VPLs weigh 10 at most). Infinity shares none.
     float shared_weight = 3.0f;
     /// ... and shining more than this many times the frame's mean walk VPL: 3 leaves the floor's
-    /// ordinary VPLs in their sets (sharing all heavy ones, 11 a frame in the forest, cost 50% more
+    /// ordinary VPLs in their sets (sharing all heavy ones, 11 a frame in the forest, cost 40-50% more
     /// shadow rays for the same images) and shares the 2-3 a frame that make the bad frames.
     float shared_brightness = 3.0f;
   };
@@ -456,7 +456,39 @@ class ImportanceVplSampler {
     return out;
   }
 
+  /// The view points of `settings.view` (which must be set): the first opaque, reflecting hits of
+  /// `view_samples` camera rays on the grid jittered by hash(seed, frame).
+  template <class Tracer, class Shader>
+    requires SurfaceShader<Shader, 1>
+  std::vector<ViewPoint> view_points(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer,
+                                     const Shader& shader, const VplSettings& settings) const {
+    const PinholeProjection& projection = settings.view->projection;
+    // An arbitrary salt that separates the view jitter from the walks and the acceptance.
+    constexpr std::uint32_t jitter_salt = 0x6a697474u;
+    const float offset = ray_offset(settings.scene_bounds);
+    std::vector<ViewPoint> points;
+    for_each_view_ray(projection, settings_.view_samples, hash(hash(settings.seed, settings.frame), jitter_salt),
+                      [&](std::uint32_t, const glm::vec3& direction) {
+                        const std::optional<OpaqueHit> hit =
+                            first_opaque_hit(scene, geometry, tracer, shader, projection.origin(), direction, 0.0f, offset);
+                        if (!hit) return;
+                        const glm::vec3 reflectance =
+                            glm::clamp(hit->parameters.albedo[0] + hit->parameters.glossy[0], glm::vec3(0.0f), glm::vec3(1.0f));
+                        const float reflected = luminance(reflectance) * inv_pi;
+                        if (reflected > 0.0f && std::isfinite(reflected))
+                          points.push_back({.position = hit->surface.position[0],
+                                            .normal = hit->surface.geometric_normal[0],
+                                            .reflectance = reflected});
+                      });
+    return points;
+  }
+
  private:
+  /// Most view samples: 4096 camera rays is past any use for the estimate and bounds its cost.
+  static constexpr int max_view_samples = 4096;
+  /// Most oversampling: 256 candidates per kept VPL (an acceptance rate of 0.4%) bounds the walks.
+  static constexpr int max_oversampling_limit = 256;
+
   /// Moves the kept VPLs that weigh more than shared_weight times `qmc_weight` (1 / QMC's walks a
   /// set) and shine more than shared_brightness times the frame's mean walk VPL out of their set
   /// and into every set, each with its intensity divided by the sets' count.
@@ -512,41 +544,6 @@ class ImportanceVplSampler {
       }
     out.shared = int(shared.size());
   }
-
- public:
-
-  /// The view points of `settings.view` (which must be set): the first opaque, reflecting hits of
-  /// `view_samples` camera rays on the grid jittered by hash(seed, frame).
-  template <class Tracer, class Shader>
-    requires SurfaceShader<Shader, 1>
-  std::vector<ViewPoint> view_points(const Scene& scene, const SceneGeometry& geometry, const Tracer& tracer,
-                                     const Shader& shader, const VplSettings& settings) const {
-    const PinholeProjection& projection = settings.view->projection;
-    // An arbitrary salt that separates the view jitter from the walks and the acceptance.
-    constexpr std::uint32_t jitter_salt = 0x6a697474u;
-    const float offset = ray_offset(settings.scene_bounds);
-    std::vector<ViewPoint> points;
-    for_each_view_ray(projection, settings_.view_samples, hash(hash(settings.seed, settings.frame), jitter_salt),
-                      [&](std::uint32_t, const glm::vec3& direction) {
-                        const std::optional<OpaqueHit> hit =
-                            first_opaque_hit(scene, geometry, tracer, shader, projection.origin(), direction, 0.0f, offset);
-                        if (!hit) return;
-                        const glm::vec3 reflectance =
-                            glm::clamp(hit->parameters.albedo[0] + hit->parameters.glossy[0], glm::vec3(0.0f), glm::vec3(1.0f));
-                        const float reflected = luminance(reflectance) * inv_pi;
-                        if (reflected > 0.0f && std::isfinite(reflected))
-                          points.push_back({.position = hit->surface.position[0],
-                                            .normal = hit->surface.geometric_normal[0],
-                                            .reflectance = reflected});
-                      });
-    return points;
-  }
-
- private:
-  /// Most view samples: 4096 camera rays is past any use for the estimate and bounds its cost.
-  static constexpr int max_view_samples = 4096;
-  /// Most oversampling: 256 candidates per kept VPL (an acceptance rate of 0.4%) bounds the walks.
-  static constexpr int max_oversampling_limit = 256;
 
   /// What the pilot found: its candidates' contributions (one walk's flux each) and Phi.
   struct Pilot {
